@@ -1,0 +1,188 @@
+//! Two-node 3D beam, 6 DOFs per node, Euler-Bernoulli or Timoshenko.
+//!
+//! Local frame: x along the beam (node 1 to node 2), y from the orientation
+//! vector (its part normal to x), z = x cross y. `Iy` resists bending in the
+//! local x-z plane (displacement w, rotation ry = -dw/dx), `Iz` in the x-y
+//! plane (v, rz = dv/dx). Local DOF order per node: ux uy uz rx ry rz.
+
+use super::{axis, bending, congruence, mat_vec, ElementMatrices, SectionForces};
+use crate::dof::{Dof, DofKind};
+use crate::model::NodeId;
+use crate::section::{BeamProperties, BeamTheory};
+use crate::FemError;
+use faer::Mat;
+
+/// A 3D beam element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Beam {
+    pub id: usize,
+    pub nodes: [NodeId; 2],
+    pub properties: BeamProperties,
+    /// Approximate direction of the local y axis (global components).
+    pub orientation: [f64; 3],
+}
+
+impl Beam {
+    pub(crate) fn dofs(&self) -> Vec<Dof> {
+        self.nodes
+            .iter()
+            .flat_map(|&n| DofKind::ALL.into_iter().map(move |k| Dof::new(n, k)))
+            .collect()
+    }
+
+    /// Rotation from global to local components (rows: local x, y, z).
+    fn rotation(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, [[f64; 3]; 3]), FemError> {
+        let (l, ex) = axis(a, b);
+        if !(l > 0.0) {
+            return Err(FemError::ZeroLength { element: self.id });
+        }
+        let v = self.orientation;
+        let vx = v[0] * ex[0] + v[1] * ex[1] + v[2] * ex[2];
+        let y = [v[0] - vx * ex[0], v[1] - vx * ex[1], v[2] - vx * ex[2]];
+        let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
+        let nv = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if !(ny > 1e-8 * nv) {
+            return Err(FemError::OrientationParallel {
+                element: self.id,
+                orientation: v,
+            });
+        }
+        let ey = [y[0] / ny, y[1] / ny, y[2] / ny];
+        let ez = [
+            ex[1] * ey[2] - ex[2] * ey[1],
+            ex[2] * ey[0] - ex[0] * ey[2],
+            ex[0] * ey[1] - ex[1] * ey[0],
+        ];
+        Ok((l, [ex, ey, ez]))
+    }
+
+    /// 12x12 transformation `u_local = T u_global`.
+    fn transformation(r: &[[f64; 3]; 3]) -> Mat<f64> {
+        Mat::from_fn(
+            12,
+            12,
+            |i, j| {
+                if i / 3 == j / 3 {
+                    r[i % 3][j % 3]
+                } else {
+                    0.0
+                }
+            },
+        )
+    }
+
+    /// Local stiffness and mass (12x12).
+    fn local_matrices(&self, l: f64) -> (Mat<f64>, Mat<f64>) {
+        let p = &self.properties;
+        let (e, g, rho) = (
+            p.material.youngs_modulus,
+            p.material.shear_modulus,
+            p.material.density,
+        );
+        let s = &p.section;
+        let (phi_y, phi_z) = match p.theory {
+            BeamTheory::EulerBernoulli => (0.0, 0.0),
+            BeamTheory::Timoshenko => (
+                12.0 * e * s.iz / (g * s.shear_area_y * l * l),
+                12.0 * e * s.iy / (g * s.shear_area_z * l * l),
+            ),
+        };
+        let rot = if p.rotary_inertia { 1.0 } else { 0.0 };
+        let mut k = Mat::<f64>::zeros(12, 12);
+        let mut m = Mat::<f64>::zeros(12, 12);
+        // Axial: ux1, ux2.
+        let ka = e * s.area / l;
+        let ma = rho * s.area * l / 6.0;
+        let ax = [0, 6];
+        for (a, &i) in ax.iter().enumerate() {
+            for (b, &j) in ax.iter().enumerate() {
+                k[(i, j)] += if a == b { ka } else { -ka };
+                m[(i, j)] += if a == b { 2.0 * ma } else { ma };
+            }
+        }
+        // Torsion: rx1, rx2 (polar inertia Iy + Iz for the mass).
+        let kt = g * s.torsion / l;
+        let mt = rho * (s.iy + s.iz) * l / 6.0;
+        let tx = [3, 9];
+        for (a, &i) in tx.iter().enumerate() {
+            for (b, &j) in tx.iter().enumerate() {
+                k[(i, j)] += if a == b { kt } else { -kt };
+                m[(i, j)] += if a == b { 2.0 * mt } else { mt };
+            }
+        }
+        // Bending in x-y: (uy, rz), rz = dv/dx: signs +1.
+        let kb = bending::stiffness(e * s.iz, phi_y, l);
+        let mb = bending::mass(rho * s.area, rot * rho * s.iz, phi_y, l);
+        scatter(
+            &mut k,
+            &mut m,
+            &kb,
+            &mb,
+            [1, 5, 7, 11],
+            [1.0, 1.0, 1.0, 1.0],
+        );
+        // Bending in x-z: (uz, ry), ry = -dw/dx: rotation signs -1.
+        let kb = bending::stiffness(e * s.iy, phi_z, l);
+        let mb = bending::mass(rho * s.area, rot * rho * s.iy, phi_z, l);
+        scatter(
+            &mut k,
+            &mut m,
+            &kb,
+            &mb,
+            [2, 4, 8, 10],
+            [1.0, -1.0, 1.0, -1.0],
+        );
+        (k, m)
+    }
+
+    pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
+        let (l, r) = self.rotation(a, b)?;
+        let t = Self::transformation(&r);
+        let (k, m) = self.local_matrices(l);
+        Ok(ElementMatrices {
+            dofs: self.dofs(),
+            stiffness: congruence(&k, &t),
+            mass: congruence(&m, &t),
+        })
+    }
+
+    pub(crate) fn section_forces(
+        &self,
+        a: [f64; 3],
+        b: [f64; 3],
+        u: &[f64],
+        acc: &[f64],
+    ) -> Result<SectionForces, FemError> {
+        let (l, r) = self.rotation(a, b)?;
+        let t = Self::transformation(&r);
+        let (k, m) = self.local_matrices(l);
+        let ul = mat_vec(&t, u);
+        let al = mat_vec(&t, acc);
+        let ku = mat_vec(&k, &ul);
+        let ma = mat_vec(&m, &al);
+        let f: Vec<f64> = ku.iter().zip(&ma).map(|(x, y)| x + y).collect();
+        let mut out = SectionForces::default();
+        for c in 0..6 {
+            out.start[c] = -f[c];
+            out.end[c] = f[6 + c];
+        }
+        Ok(out)
+    }
+}
+
+/// Adds a 4x4 bending block into 12x12 matrices at `idx`, with DOF signs.
+fn scatter(
+    k: &mut Mat<f64>,
+    m: &mut Mat<f64>,
+    kb: &[[f64; 4]; 4],
+    mb: &[[f64; 4]; 4],
+    idx: [usize; 4],
+    sign: [f64; 4],
+) {
+    for a in 0..4 {
+        for b in 0..4 {
+            k[(idx[a], idx[b])] += sign[a] * sign[b] * kb[a][b];
+            m[(idx[a], idx[b])] += sign[a] * sign[b] * mb[a][b];
+        }
+    }
+}

@@ -1,0 +1,95 @@
+//! Planar Euler-Bernoulli beam along the global x axis, bending in the x-z
+//! plane: DOFs per node `uz` (w) and `ry` (= -dw/dx, the right-handed rotation
+//! about y, so that the rigid-body modes of eq. 12 apply unchanged). This is
+//! the element of the report's side beam.
+
+use super::{axis, bending, mat_vec, ElementMatrices, SectionForces};
+use crate::dof::{Dof, DofKind};
+use crate::model::NodeId;
+use crate::section::BeamProperties;
+use crate::FemError;
+use faer::Mat;
+
+/// A planar beam element (uz, ry per node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanarBeam {
+    pub id: usize,
+    pub nodes: [NodeId; 2],
+    /// Uses E, density, area and `iy`; shear-rigid, no rotary inertia unless
+    /// `rotary_inertia` is set.
+    pub properties: BeamProperties,
+}
+
+impl PlanarBeam {
+    pub(crate) fn dofs(&self) -> Vec<Dof> {
+        self.nodes
+            .iter()
+            .flat_map(|&n| [Dof::new(n, DofKind::Uz), Dof::new(n, DofKind::Ry)])
+            .collect()
+    }
+
+    /// Length and direction sign (+1 if node 2 lies at larger x).
+    fn geometry(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, f64), FemError> {
+        let (l, dir) = axis(a, b);
+        if !(l > 0.0) {
+            return Err(FemError::ZeroLength { element: self.id });
+        }
+        if (dir[0].abs() - 1.0).abs() > 1e-9 {
+            return Err(FemError::PlanarBeamNotAlongX { element: self.id });
+        }
+        Ok((l, dir[0].signum()))
+    }
+
+    /// Matrices in local DOFs `(w1, ry1, w2, ry2)` of an element along +x.
+    fn local(&self, l: f64, s: f64) -> (Mat<f64>, Mat<f64>) {
+        let p = &self.properties;
+        let ei = p.material.youngs_modulus * p.section.iy;
+        let rho_a = p.material.density * p.section.area;
+        let rho_i = if p.rotary_inertia {
+            p.material.density * p.section.iy
+        } else {
+            0.0
+        };
+        let kb = bending::stiffness(ei, 0.0, l);
+        let mb = bending::mass(rho_a, rho_i, 0.0, l);
+        // Bending block is in (w, dw/dx); ry = -dw/dx along +x. An element
+        // pointing along -x has local ry = -ry (global), so the sign is -s.
+        let sign = [1.0, -s, 1.0, -s];
+        let k = Mat::from_fn(4, 4, |i, j| sign[i] * sign[j] * kb[i][j]);
+        let m = Mat::from_fn(4, 4, |i, j| sign[i] * sign[j] * mb[i][j]);
+        (k, m)
+    }
+
+    pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
+        let (l, s) = self.geometry(a, b)?;
+        let (stiffness, mass) = self.local(l, s);
+        Ok(ElementMatrices {
+            dofs: self.dofs(),
+            stiffness,
+            mass,
+        })
+    }
+
+    /// Section forces `Qz` and `My` at both ends (report eq. 25).
+    pub(crate) fn section_forces(
+        &self,
+        a: [f64; 3],
+        b: [f64; 3],
+        u: &[f64],
+        acc: &[f64],
+    ) -> Result<SectionForces, FemError> {
+        let (l, s) = self.geometry(a, b)?;
+        let (k, m) = self.local(l, s);
+        let ku = mat_vec(&k, u);
+        let ma = mat_vec(&m, acc);
+        let f: Vec<f64> = ku.iter().zip(&ma).map(|(x, y)| x + y).collect();
+        let mut out = SectionForces::default();
+        // Qz, My in global DOF sense, turned to the element's local frame (x
+        // along the element): local z = global z, local y = s * global y.
+        out.start[2] = -f[0];
+        out.start[4] = -s * f[1];
+        out.end[2] = f[2];
+        out.end[4] = s * f[3];
+        Ok(out)
+    }
+}

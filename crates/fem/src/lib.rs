@@ -1,0 +1,84 @@
+//! Finite-element substructures: nodes with 3D coordinates, a DOF map, node
+//! sets, elements (planar and 3D beams, point masses, springs), and sparse
+//! assembly of mass, stiffness and Rayleigh damping (report eq. 1).
+//!
+//! Units are SI throughout: m, kg, s, N, Pa, rad.
+
+pub mod assembly;
+pub mod dof;
+pub mod element;
+pub mod model;
+pub mod section;
+
+pub use assembly::{assemble, SystemMatrices};
+pub use dof::{Dof, DofKind, DofMap};
+pub use element::{Element, ElementMatrices, SectionForces};
+pub use model::{Model, Node, NodeId, Rayleigh};
+pub use section::{BeamProperties, BeamTheory, Material, SectionShape};
+
+/// Errors in building or assembling a model. They name the element, node or
+/// DOF that is wrong (user ids, not internal indices).
+#[derive(Debug, thiserror::Error)]
+pub enum FemError {
+    #[error("node {0} is defined twice")]
+    DuplicateNode(NodeId),
+    #[error("element {element} refers to node {node}, which does not exist")]
+    UnknownNode { element: usize, node: NodeId },
+    #[error("{what} refers to node {node}, which does not exist")]
+    UnknownNodeIn { what: String, node: NodeId },
+    #[error("element {element} has zero length")]
+    ZeroLength { element: usize },
+    #[error(
+        "planar beam element {element} must lie along the x axis (same y and z at both nodes)"
+    )]
+    PlanarBeamNotAlongX { element: usize },
+    #[error("element {element}: orientation vector {orientation:?} is parallel to the beam axis")]
+    OrientationParallel {
+        element: usize,
+        orientation: [f64; 3],
+    },
+    #[error("{what} must be {rule}, got {value}")]
+    InvalidValue {
+        what: String,
+        rule: &'static str,
+        value: f64,
+    },
+    #[error("point mass on node {node}: no element gives that node a DOF to carry it")]
+    MassWithoutDof { node: NodeId },
+    #[error("{what}: node {node} has no DOF {dof}")]
+    UnknownDof {
+        what: String,
+        node: NodeId,
+        dof: DofKind,
+    },
+    #[error("the model has no DOFs")]
+    Empty,
+    #[error(transparent)]
+    Linalg(#[from] flexbody_linalg::LinalgError),
+}
+
+/// Checks that `value` is finite and positive; `what` names it in the error.
+pub fn require_positive(what: impl Into<String>, value: f64) -> Result<f64, FemError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(FemError::InvalidValue {
+            what: what.into(),
+            rule: "positive and finite",
+            value,
+        })
+    }
+}
+
+/// Checks that `value` is finite and not negative.
+pub fn require_non_negative(what: impl Into<String>, value: f64) -> Result<f64, FemError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(FemError::InvalidValue {
+            what: what.into(),
+            rule: "zero or positive and finite",
+            value,
+        })
+    }
+}

@@ -1,0 +1,42 @@
+//! Linear-algebra kernels of flexbody, over faer's matrix types.
+//!
+//! Other crates keep their data in faer's [`faer::Mat`] and
+//! [`faer::sparse::SparseColMat`] and call these algorithms:
+//! - [`ldlt`]: sparse `LDL^T` with a symbolic/numeric split, block solves,
+//!   pivot inspection (singularity, inertia);
+//! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
+//! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
+//! - [`sparse`]: assembly from triplets, sub-matrices, products.
+
+pub mod eigen;
+pub mod ldlt;
+pub mod orthonormal;
+pub mod sparse;
+
+pub use faer::sparse::SparseColMat;
+pub use faer::{Mat, MatRef};
+
+/// Sparse matrix type used throughout flexbody (column-compressed, `usize` indices).
+pub type SparseMat = SparseColMat<usize, f64>;
+
+/// Errors of the linear-algebra kernels. Indices are rows of the matrix that
+/// was handed in (original order, not the fill-reducing permutation).
+#[derive(Debug, thiserror::Error)]
+pub enum LinalgError {
+    /// A pivot of `LDL^T` vanished: the matrix is singular at this row.
+    #[error("matrix is singular: pivot {pivot:e} at row {index} (diagonal {diagonal:e})")]
+    Singular {
+        index: usize,
+        pivot: f64,
+        diagonal: f64,
+    },
+    /// The mass matrix (or another matrix that must be positive definite) is not.
+    #[error("matrix is not positive definite at row {index}")]
+    NotPositiveDefinite { index: usize },
+    /// Dimensions of the operands do not agree.
+    #[error("dimension mismatch: {0}")]
+    Dimension(String),
+    /// faer could not complete an operation (out of memory, index overflow).
+    #[error("linear algebra failure: {0}")]
+    Faer(String),
+}
