@@ -1,1 +1,36 @@
+//! flexbody: reduce a linear FE model of one component to a small flexible
+//! body for multibody simulation (MBS), couple it into MBS equations, recover
+//! displacements and section forces from the Ritz coordinates, and measure
+//! what the reduction costs in accuracy.
+//!
+//! The method is that of Dietz & Knothe, "Reduktion der Anzahl der
+//! Freiheitsgrade in Finite-Element-Substrukturen" (ILR-Mitteilung 315, TU
+//! Berlin 1997); equation numbers in the docs are the report's. Units are SI
+//! throughout.
+//!
+//! Data flows one way, one crate per stage:
+//! [`fem`] (model, K, M) -> [`reduce`] (modes, [`reduce::ReducedBody`]) ->
+//! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
+//! [`study`] and [`plot`] (accuracy report); [`io`] reads model files and
+//! [`export`] writes reduced bodies.
+//!
+//! ```no_run
+//! use flexbody::{fem, io, reduce};
+//! let file = io::read_model_file("examples/side_beam.toml".as_ref())?;
+//! let matrices = fem::assemble(&file.model)?;
+//! let spec = reduce::Reduction::new(reduce::Method::FreeResidual, 1, file.interface.clone());
+//! let body = reduce::reduce(&file.model, &matrices, &spec)?;
+//! assert_eq!(body.r(), 7); // 2 rigid + 4 residual inertia-relief + 1 eigenmode
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
+pub mod plot;
+pub mod study;
+
+pub use flexbody_export as export;
+pub use flexbody_fem as fem;
+pub use flexbody_io as io;
+pub use flexbody_linalg as linalg;
+pub use flexbody_mbs as mbs;
+pub use flexbody_recover as recover;
+pub use flexbody_reduce as reduce;

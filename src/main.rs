@@ -1,1 +1,259 @@
-fn main() {}
+//! The `flexbody` command line: a thin layer over the library. Arguments
+//! become a validated configuration, then one library call does the work.
+//! Exit status 0 on success, 2 on any error (bad input, failed reduction,
+//! failed write), with the error on stderr.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use flexbody::reduce::{reduce, Method, Reduction};
+use flexbody::{export, fem, io, plot, reduce as red, study};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "flexbody",
+    version,
+    about = "Reduce linear FE models to flexible bodies for multibody simulation, and measure how accurate they are.",
+    long_about = "Reduce linear FE models to flexible bodies for multibody simulation (after Dietz & Knothe 1997), couple them into MBS equations, recover section forces, and measure the accuracy against the full model.\n\nAll quantities are SI: m, kg, s, N, Pa, rad; excitation frequencies in rad/s, natural frequencies in Hz."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compare reduction methods against the full model (the [study] table of a model file).
+    Study {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Print the table as JSON: {"cases":[{"method","r","omega","err_w","err_m","err_q"}]}.
+        #[arg(long)]
+        json: bool,
+        /// Directory for the SVG plots (default: out/<model name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Do not write plots.
+        #[arg(long)]
+        no_plots: bool,
+    },
+    /// Reduce a model and write the reduced body (JSON).
+    Reduce {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Reduction method.
+        #[arg(long, value_parser = parse_method)]
+        method: Method,
+        /// Eigenmodes e (for `free`: the total r, rigid-body modes included).
+        #[arg(long, default_value_t = 0)]
+        modes: usize,
+        /// Reduced-body file to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Rotate the basis so that M_red = I and K_red is diagonal.
+        #[arg(long)]
+        orthonormalize: bool,
+        /// Print {"r":..,"full_hz":[..],"reduced_hz":[..]} instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Natural frequencies of a model (free, or with its boundary conditions).
+    Modes {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Number of modes, lowest first.
+        #[arg(long, default_value_t = 10)]
+        count: usize,
+        /// Print {"dofs":..,"frequencies_hz":[..],"residuals":[..]}.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    Method::parse(s).ok_or_else(|| {
+        let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "unknown method '{s}'; expected one of: {}",
+            names.join(", ")
+        )
+    })
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Study {
+            model,
+            json,
+            out,
+            no_plots,
+        } => run_study(&model, json, out, no_plots),
+        Command::Reduce {
+            model,
+            method,
+            modes,
+            out,
+            orthonormalize,
+            json,
+        } => run_reduce(&model, method, modes, &out, orthonormalize, json),
+        Command::Modes { model, count, json } => run_modes(&model, count, json),
+    }
+}
+
+fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> Result<()> {
+    let file = io::read_model_file(model)?;
+    let result = study::run_study(&file)?;
+    let mut plots = None;
+    if !no_plots {
+        let dir = out.unwrap_or_else(|| {
+            let stem = model
+                .file_stem()
+                .map_or("study".into(), |s| s.to_string_lossy().into_owned());
+            Path::new("out").join(stem)
+        });
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+        for case in &result.cases {
+            let reference = &result
+                .references
+                .iter()
+                .find(|(o, _)| *o == case.row.omega)
+                .context("reference for the case's frequency")?
+                .1;
+            let name = format!(
+                "{}_r{}_omega{}.svg",
+                case.row.method,
+                case.row.r,
+                fmt_omega(case.row.omega)
+            );
+            let title = format!(
+                "{}, r = {}, Omega = {} rad/s: reduced (dashed) over reference",
+                case.row.method,
+                case.row.r,
+                fmt_omega(case.row.omega)
+            );
+            plot::plot_case(&dir.join(&name), &title, reference, &case.reduced)
+                .map_err(anyhow::Error::msg)?;
+        }
+        plots = Some(dir);
+    }
+    if json {
+        let doc = serde_json::json!({ "cases": result.rows() });
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    if let Some(t) = &result.title {
+        println!("{t}");
+    }
+    println!(
+        "reference: full model, {} DOFs; errors: max |reduced - reference| / max |reference|",
+        file.model.dof_map().len()
+    );
+    println!(
+        "{:<18} {:>4} {:>14} {:>10} {:>10} {:>10}",
+        "method", "r", "Omega (rad/s)", "err w", "err M", "err Q"
+    );
+    for row in result.rows() {
+        println!(
+            "{:<18} {:>4} {:>14} {:>10.2e} {:>10.2e} {:>10.2e}",
+            row.method.name(),
+            row.r,
+            fmt_omega(row.omega),
+            row.err_w,
+            row.err_m,
+            row.err_q
+        );
+    }
+    if let Some(dir) = plots {
+        println!("plots: {}", dir.display());
+    }
+    Ok(())
+}
+
+fn fmt_omega(omega: f64) -> String {
+    let s = format!("{omega:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+fn run_reduce(
+    model: &Path,
+    method: Method,
+    modes: usize,
+    out: &Path,
+    orthonormalize: bool,
+    json: bool,
+) -> Result<()> {
+    let file = io::read_model_file(model)?;
+    let matrices = fem::assemble(&file.model)?;
+    let mut spec = Reduction::new(method, modes, file.interface.clone());
+    spec.support = file.support.clone();
+    spec.springs = file.ground_springs();
+    spec.orthonormalize = orthonormalize;
+    let body = reduce(&file.model, &matrices, &spec)?;
+    let reduced_hz = body.frequencies_hz()?;
+    let count = body.r().min(file.model.dof_map().len());
+    let full_hz =
+        red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count)?.frequencies_hz();
+    export::write_json(&body, out)?;
+    if json {
+        let doc =
+            serde_json::json!({ "r": body.r(), "full_hz": full_hz, "reduced_hz": reduced_hz });
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    println!(
+        "{} reduction, r = {}, written to {}",
+        method,
+        body.r(),
+        out.display()
+    );
+    println!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
+    for (i, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
+        println!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
+    }
+    Ok(())
+}
+
+fn run_modes(model: &Path, count: usize, json: bool) -> Result<()> {
+    let file = io::read_model_file(model)?;
+    let matrices = fem::assemble(&file.model)?;
+    let n = file.model.dof_map().len();
+    let modes = red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count.min(n))?;
+    let residuals: Vec<f64> = (0..modes.values.len())
+        .map(|j| {
+            let phi = modes.vectors.col(j);
+            let k_phi = &matrices.stiffness * phi;
+            let m_phi = &matrices.mass * phi;
+            let r = &k_phi - &m_phi * faer::Scale(modes.values[j]);
+            let scale = k_phi.norm_l2().max(m_phi.norm_l2() * modes.values[j].abs());
+            if scale > 0.0 {
+                r.norm_l2() / scale
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let hz = modes.frequencies_hz();
+    if json {
+        let doc = serde_json::json!({ "dofs": n, "frequencies_hz": hz, "residuals": residuals });
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    println!("{n} DOFs");
+    println!("{:>5} {:>14} {:>10}", "mode", "f (Hz)", "residual");
+    for (i, (f, r)) in hz.iter().zip(&residuals).enumerate() {
+        println!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
+    }
+    Ok(())
+}

@@ -1,1 +1,232 @@
+//! Reduced-body files. A [`ReducedBody`] becomes a self-describing JSON
+//! document (units, DOF map, method, modes, frequencies, matrices); the reader
+//! checks every count and names what is wrong. Writers go through
+//! [`write_atomically`]: a temporary file beside the target, renamed on
+//! success, so a failed write never leaves a half-written file.
 
+use faer::Mat;
+use flexbody_fem::{Dof, DofMap};
+use flexbody_reduce::{Method, ModeKind, ReducedBody};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Errors writing or reading reduced-body files; each names the path.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error("{}: cannot write: {source}", .path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: cannot read: {source}", .path.display())]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: {message}", .path.display())]
+    Format { path: PathBuf, message: String },
+    #[error("refusing to write a non-finite value in {0}")]
+    NonFinite(&'static str),
+}
+
+/// Writes `bytes` to `path` through a temporary file and a rename.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), ExportError> {
+    let err = |source| ExportError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| err(std::io::Error::other("not a file path")))?;
+    let tmp = dir.join(format!(
+        ".{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        let file = std::fs::File::create(&tmp)?;
+        let mut out = std::io::BufWriter::new(file);
+        write(&mut out)?;
+        out.flush()?;
+        out.get_ref().sync_all()?;
+        drop(out);
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(err(e));
+    }
+    Ok(())
+}
+
+/// The JSON document of a reduced body. Matrices are row-major arrays of
+/// rows. Units: SI (basis rows in m or rad per unit q; mass in kg-consistent
+/// units of q; stiffness in N/m-consistent units of q).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BodyFile {
+    pub format: String,
+    pub units: String,
+    pub method: Method,
+    pub r: usize,
+    pub dofs: Vec<Dof>,
+    pub interface: Vec<Dof>,
+    pub modes: Vec<ModeKind>,
+    /// Natural frequencies of the free reduced body (Hz).
+    pub frequencies_hz: Vec<f64>,
+    pub mass: Vec<Vec<f64>>,
+    pub stiffness: Vec<Vec<f64>>,
+    pub damping: Option<Vec<Vec<f64>>>,
+    /// The Ritz basis T, one row per DOF of `dofs`.
+    pub basis: Vec<Vec<f64>>,
+}
+
+/// Format tag written into every file.
+pub const FORMAT: &str = "flexbody-reduced-body/1";
+
+fn rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+        .collect()
+}
+
+impl BodyFile {
+    /// The document of `body`; fails on NaN or infinite entries.
+    pub fn new(body: &ReducedBody) -> Result<Self, ExportError> {
+        let finite = |m: &Mat<f64>, what| {
+            if m.norm_max().is_finite() {
+                Ok(())
+            } else {
+                Err(ExportError::NonFinite(what))
+            }
+        };
+        finite(&body.basis, "the basis")?;
+        finite(&body.mass, "the mass matrix")?;
+        finite(&body.stiffness, "the stiffness matrix")?;
+        let frequencies_hz = body.frequencies_hz().map_err(|_| {
+            ExportError::NonFinite("the frequencies (reduced mass matrix not positive definite)")
+        })?;
+        Ok(Self {
+            format: FORMAT.into(),
+            units: "SI: m, kg, s, N, rad; frequencies in Hz".into(),
+            method: body.method,
+            r: body.r(),
+            dofs: body.dof_map.dofs().to_vec(),
+            interface: body.interface.clone(),
+            modes: body.modes.clone(),
+            frequencies_hz,
+            mass: rows(&body.mass),
+            stiffness: rows(&body.stiffness),
+            damping: body.damping.as_ref().map(rows),
+            basis: rows(&body.basis),
+        })
+    }
+
+    /// Back to a [`ReducedBody`], checking every count.
+    pub fn into_body(self, path: &Path) -> Result<ReducedBody, ExportError> {
+        let bad = |message: String| ExportError::Format {
+            path: path.to_path_buf(),
+            message,
+        };
+        if self.format != FORMAT {
+            return Err(bad(format!("format '{}' is not {FORMAT}", self.format)));
+        }
+        let r = self.r;
+        let square = |m: &Vec<Vec<f64>>, what: &str| -> Result<Mat<f64>, ExportError> {
+            if m.len() != r {
+                return Err(bad(format!("{what} has {} rows, r = {r}", m.len())));
+            }
+            if let Some((i, row)) = m.iter().enumerate().find(|(_, row)| row.len() != r) {
+                return Err(bad(format!(
+                    "{what} row {i} has {} entries, r = {r}",
+                    row.len()
+                )));
+            }
+            Ok(Mat::from_fn(r, r, |i, j| m[i][j]))
+        };
+        let mass = square(&self.mass, "mass")?;
+        let stiffness = square(&self.stiffness, "stiffness")?;
+        let damping = self
+            .damping
+            .as_ref()
+            .map(|d| square(d, "damping"))
+            .transpose()?;
+        if self.basis.len() != self.dofs.len() {
+            return Err(bad(format!(
+                "basis has {} rows for {} DOFs",
+                self.basis.len(),
+                self.dofs.len()
+            )));
+        }
+        if let Some((i, row)) = self
+            .basis
+            .iter()
+            .enumerate()
+            .find(|(_, row)| row.len() != r)
+        {
+            return Err(bad(format!(
+                "basis row {i} ({}) has {} entries, r = {r}",
+                self.dofs[i],
+                row.len()
+            )));
+        }
+        if self.modes.len() != r {
+            return Err(bad(format!(
+                "{} mode descriptions for r = {r}",
+                self.modes.len()
+            )));
+        }
+        let basis = Mat::from_fn(self.dofs.len(), r, |i, j| self.basis[i][j]);
+        let dof_map = DofMap::new(self.dofs);
+        if let Some(d) = self
+            .interface
+            .iter()
+            .find(|d| dof_map.index_of(**d).is_none())
+        {
+            return Err(bad(format!(
+                "interface DOF {d} is not among the body's DOFs"
+            )));
+        }
+        Ok(ReducedBody {
+            method: self.method,
+            dof_map,
+            basis,
+            mass,
+            stiffness,
+            damping,
+            modes: self.modes,
+            interface: self.interface,
+        })
+    }
+}
+
+/// Writes `body` as JSON to `path` (atomically).
+pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
+    let doc = BodyFile::new(body)?;
+    write_atomically(path, |out| {
+        serde_json::to_writer_pretty(&mut *out, &doc).map_err(std::io::Error::other)?;
+        out.write_all(b"\n")
+    })
+}
+
+/// Reads a JSON reduced body written by [`write_json`].
+pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let doc: BodyFile = serde_json::from_str(&text).map_err(|e| ExportError::Format {
+        path: path.to_path_buf(),
+        message: format!("line {}: {e}", e.line()),
+    })?;
+    doc.into_body(path)
+}

@@ -203,8 +203,8 @@ impl Model {
         let n = self.nodes.len().max(1) as f64;
         let mut c = [0.0; 3];
         for node in &self.nodes {
-            for k in 0..3 {
-                c[k] += node.coords[k] / n;
+            for (ck, xk) in c.iter_mut().zip(node.coords) {
+                *ck += xk / n;
             }
         }
         c

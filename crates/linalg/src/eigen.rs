@@ -171,7 +171,7 @@ mod tests {
         assert_eq!(pairs.values.len(), n - 1);
         assert!(pairs.values[0].abs() < 1e-14, "{}", pairs.values[0]);
         let r =
-            &k * &pairs.vectors.col(1) - &m * &pairs.vectors.col(1) * faer::Scale(pairs.values[1]);
+            &k * pairs.vectors.col(1) - &m * pairs.vectors.col(1) * faer::Scale(pairs.values[1]);
         assert!(r.norm_max() < 1e-13);
     }
 }

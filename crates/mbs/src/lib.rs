@@ -1,1 +1,42 @@
+//! Linear multibody systems with flexible bodies (report section 4).
+//!
+//! Bodies contribute their coordinates: a reduced flexible body its Ritz
+//! coordinates q (`u_j = T_j q`, eq. 8), the full FE model (the reference
+//! solution) its nodal DOFs, a rigid body the six motions of its centre of
+//! mass (`u_i = R_i u_st`, eq. 12). Springs between points of bodies, ground
+//! or a base-excited track point add `c_n g_n g_n^T` with the kinematics row
+//! `g_n = d_n^T [-R_i | T_j]` (eq. 9-11). [`harmonic`] solves the steady
+//! state at an excitation frequency Omega.
+//!
+//! Units: SI (m, kg, s, N, rad/s).
 
+pub mod body;
+pub mod connection;
+pub mod harmonic;
+
+pub use body::{FlexibleBody, RigidBody};
+pub use connection::{Connection, Endpoint, Track};
+pub use harmonic::{harmonic_response, Assembled, HarmonicResponse, System};
+
+/// Errors of MBS assembly and solution, naming the connection and body.
+#[derive(Debug, thiserror::Error)]
+pub enum MbsError {
+    #[error("connection '{connection}': flexible body {body} does not exist")]
+    UnknownFlexibleBody { connection: String, body: usize },
+    #[error("connection '{connection}': rigid body {body} does not exist")]
+    UnknownRigidBody { connection: String, body: usize },
+    #[error("connection '{connection}': node {node} of the flexible body has no DOF {dof}, but the spring direction has a component along it")]
+    MissingDof {
+        connection: String,
+        node: u64,
+        dof: &'static str,
+    },
+    #[error("connection '{connection}': {what}")]
+    Invalid { connection: String, what: String },
+    #[error("connection '{0}' is base-excited but the system has no track")]
+    NoTrack(String),
+    #[error("the dynamic stiffness at Omega = {omega} rad/s is singular: Omega is an undamped eigenfrequency of the system, or a body is not supported")]
+    Singular { omega: f64 },
+    #[error(transparent)]
+    Linalg(#[from] flexbody_linalg::LinalgError),
+}

@@ -1,1 +1,138 @@
+//! Recovery of section forces (report eq. 25):
+//! `s_e = K_e T_e q + M_e T_e q''`, the element end forces including the
+//! inertia term. The same functions serve the reduced body (u = T q) and the
+//! full model (the reference, "Vergleichslösung"), so both are recovered the
+//! same way. For a harmonic state at Omega, `q'' = -Omega^2 q`.
 
+use faer::Mat;
+use flexbody_fem::{Dof, DofKind, FemError, Model, SectionForces};
+use flexbody_reduce::ReducedBody;
+use serde::{Deserialize, Serialize};
+
+/// Section forces of one beam element with the positions of its ends (m).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ElementForces {
+    pub element: usize,
+    pub start: [f64; 3],
+    pub end: [f64; 3],
+    pub forces: SectionForces,
+}
+
+/// Values of the model's DOFs from a vector over its equations (fixed DOFs: 0).
+fn gather(model: &Model, dofs: &[Dof], u: &[f64]) -> Vec<f64> {
+    dofs.iter()
+        .map(|d| model.dof_map().index_of(*d).map_or(0.0, |i| u[i]))
+        .collect()
+}
+
+/// Eq. 25 for every beam element: section forces from displacements `u`
+/// and accelerations `a` (both over the model's equations).
+pub fn section_forces(model: &Model, u: &[f64], a: &[f64]) -> Result<Vec<ElementForces>, FemError> {
+    let mut out = Vec::new();
+    for e in model.elements() {
+        let dofs = e.dofs();
+        let ue = gather(model, &dofs, u);
+        let ae = gather(model, &dofs, a);
+        if let Some(forces) = e.section_forces(model, &ue, &ae)? {
+            let nodes = e.nodes();
+            out.push(ElementForces {
+                element: e.id(),
+                start: model.coords(nodes[0]),
+                end: model.coords(nodes[1]),
+                forces,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Section forces of a harmonic state `u` at `omega` (rad/s): `a = -omega^2 u`.
+pub fn harmonic_section_forces(
+    model: &Model,
+    u: &[f64],
+    omega: f64,
+) -> Result<Vec<ElementForces>, FemError> {
+    let a: Vec<f64> = u.iter().map(|v| -omega * omega * v).collect();
+    section_forces(model, u, &a)
+}
+
+/// Nodal values of one DOF kind along the model, `(node coordinates, value)`,
+/// in node order (nodes without that DOF are skipped; fixed DOFs give 0).
+pub fn nodal_values(model: &Model, u: &[f64], kind: DofKind) -> Vec<([f64; 3], f64)> {
+    model
+        .nodes()
+        .iter()
+        .filter(|n| {
+            model.dof_map().index_of(Dof::new(n.id, kind)).is_some()
+                || model.fixed_dofs().any(|d| *d == Dof::new(n.id, kind))
+        })
+        .map(|n| {
+            let v = model
+                .dof_map()
+                .index_of(Dof::new(n.id, kind))
+                .map_or(0.0, |i| u[i]);
+            (n.coords, v)
+        })
+        .collect()
+}
+
+/// Modal section-force matrices of a reduced body (eq. 25 with `T_e`
+/// folded in): per beam element, `S_K = K_e T_e` and `S_M = M_e T_e` as
+/// 12 x r matrices (rows: start then end section forces `N Qy Qz T My Mz`),
+/// so that `s_e = S_K q + S_M q''` needs only the r Ritz coordinates.
+#[derive(Clone, Debug)]
+pub struct ModalRecovery {
+    pub elements: Vec<usize>,
+    pub stiffness: Vec<Mat<f64>>,
+    pub mass: Vec<Mat<f64>>,
+}
+
+impl ModalRecovery {
+    pub fn new(model: &Model, body: &ReducedBody) -> Result<Self, FemError> {
+        let r = body.r();
+        let m = body.basis.nrows();
+        let zero = vec![0.0; m];
+        let mut per_mode_k = Vec::with_capacity(r);
+        let mut per_mode_m = Vec::with_capacity(r);
+        for j in 0..r {
+            let t: Vec<f64> = (0..m).map(|i| body.basis[(i, j)]).collect();
+            per_mode_k.push(section_forces(model, &t, &zero)?);
+            per_mode_m.push(section_forces(model, &zero, &t)?);
+        }
+        let elements: Vec<usize> = per_mode_k
+            .first()
+            .map_or_else(Vec::new, |f| f.iter().map(|e| e.element).collect());
+        let build = |per_mode: &Vec<Vec<ElementForces>>, e: usize| {
+            Mat::from_fn(12, r, |i, j| {
+                let f = &per_mode[j][e].forces;
+                if i < 6 {
+                    f.start[i]
+                } else {
+                    f.end[i - 6]
+                }
+            })
+        };
+        let stiffness = (0..elements.len()).map(|e| build(&per_mode_k, e)).collect();
+        let mass = (0..elements.len()).map(|e| build(&per_mode_m, e)).collect();
+        Ok(Self {
+            elements,
+            stiffness,
+            mass,
+        })
+    }
+
+    /// Section forces of element number `k` (position in `elements`) from
+    /// `q` and `q''`.
+    pub fn forces(&self, k: usize, q: &[f64], q_dd: &[f64]) -> SectionForces {
+        let (s_k, s_m) = (&self.stiffness[k], &self.mass[k]);
+        let v = |i: usize| -> f64 {
+            (0..q.len())
+                .map(|j| s_k[(i, j)] * q[j] + s_m[(i, j)] * q_dd[j])
+                .sum()
+        };
+        SectionForces {
+            start: std::array::from_fn(v),
+            end: std::array::from_fn(|i| v(i + 6)),
+        }
+    }
+}

@@ -33,7 +33,7 @@ impl Beam {
     /// Rotation from global to local components (rows: local x, y, z).
     fn rotation(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, [[f64; 3]; 3]), FemError> {
         let (l, ex) = axis(a, b);
-        if !(l > 0.0) {
+        if l.is_nan() || l <= 0.0 {
             return Err(FemError::ZeroLength { element: self.id });
         }
         let v = self.orientation;
@@ -41,7 +41,7 @@ impl Beam {
         let y = [v[0] - vx * ex[0], v[1] - vx * ex[1], v[2] - vx * ex[2]];
         let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
         let nv = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if !(ny > 1e-8 * nv) {
+        if ny.is_nan() || ny <= 1e-8 * nv {
             return Err(FemError::OrientationParallel {
                 element: self.id,
                 orientation: v,

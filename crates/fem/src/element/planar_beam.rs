@@ -31,7 +31,7 @@ impl PlanarBeam {
     /// Length and direction sign (+1 if node 2 lies at larger x).
     fn geometry(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, f64), FemError> {
         let (l, dir) = axis(a, b);
-        if !(l > 0.0) {
+        if l.is_nan() || l <= 0.0 {
             return Err(FemError::ZeroLength { element: self.id });
         }
         if (dir[0].abs() - 1.0).abs() > 1e-9 {

@@ -1,0 +1,793 @@
+//! The TOML model file (format documented in the README, section "Model
+//! files"). Raw TOML is deserialised into `Raw*` structs that keep source
+//! spans, then checked and turned into a [`flexbody_fem::Model`] and the MBS
+//! description, with errors that name the line.
+
+use crate::InputError;
+use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
+use flexbody_fem::{
+    BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, Rayleigh,
+    SectionShape,
+};
+use flexbody_mbs::{Connection, Endpoint, RigidBody, Track};
+use flexbody_reduce::{GroundSpring, Method};
+use serde::Deserialize;
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A study case: a method and its number of eigenmodes.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseSpec {
+    pub method: Method,
+    /// Eigenmodes e; for `free` the total r including rigid-body modes.
+    #[serde(default)]
+    pub modes: usize,
+}
+
+/// The `[study]` table: cases and excitation frequencies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudySpec {
+    /// Excitation frequencies Omega (rad/s).
+    pub omegas: Vec<f64>,
+    pub cases: Vec<CaseSpec>,
+}
+
+/// A model file, checked.
+#[derive(Clone, Debug)]
+pub struct ModelFile {
+    pub path: PathBuf,
+    pub title: Option<String>,
+    pub model: Model,
+    /// Interface DOFs: given, or those the connections act on.
+    pub interface: Vec<Dof>,
+    /// Statically determinate support for inertia-relief modes, if given.
+    pub support: Option<Vec<Dof>>,
+    /// Rigid bodies that move (held ones are ground).
+    pub rigid_bodies: Vec<RigidBody>,
+    /// Connections; flexible endpoints refer to body 0, the model.
+    pub connections: Vec<Connection>,
+    pub track: Option<Track>,
+    pub study: Option<StudySpec>,
+}
+
+impl ModelFile {
+    /// The connections as springs to ground at their flexible node: the
+    /// elastic support of the `elastic-residual` method (report Bild 8:
+    /// the other ends held).
+    pub fn ground_springs(&self) -> Vec<GroundSpring> {
+        self.connections
+            .iter()
+            .filter_map(|c| match (&c.a, &c.b) {
+                (_, Endpoint::Flexible { node, .. }) | (Endpoint::Flexible { node, .. }, _) => {
+                    Some(GroundSpring {
+                        node: *node,
+                        direction: c.direction,
+                        stiffness: c.stiffness,
+                    })
+                }
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+// ---------------------------------------------------------------- raw TOML
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    title: Option<String>,
+    #[serde(default)]
+    material: Vec<RawMaterial>,
+    #[serde(default)]
+    section: Vec<Spanned<RawSection>>,
+    #[serde(default)]
+    nodes: Vec<Spanned<(u64, f64, f64, f64)>>,
+    #[serde(default)]
+    beam_line: Vec<Spanned<RawBeamLine>>,
+    #[serde(default)]
+    element: Vec<Spanned<RawElement>>,
+    #[serde(default)]
+    sets: BTreeMap<String, Spanned<Vec<u64>>>,
+    #[serde(default)]
+    boundary: Vec<Spanned<RawBoundary>>,
+    damping: Option<Rayleigh>,
+    interface: Option<RawInterface>,
+    track: Option<Track>,
+    #[serde(default)]
+    rigid_body: Vec<Spanned<RawRigidBody>>,
+    #[serde(default)]
+    connection: Vec<Spanned<RawConnection>>,
+    study: Option<RawStudy>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMaterial {
+    name: Spanned<String>,
+    youngs_modulus: Spanned<f64>,
+    #[serde(default = "default_poisson")]
+    poisson_ratio: Spanned<f64>,
+    density: Spanned<f64>,
+}
+
+fn default_poisson() -> Spanned<f64> {
+    Spanned::new(0..0, 0.3)
+}
+
+#[derive(Deserialize)]
+struct RawSection {
+    name: String,
+    #[serde(flatten)]
+    shape: SectionShape,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+enum BeamKind {
+    PlanarBeam,
+    Beam,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBeamLine {
+    element: BeamKind,
+    #[serde(default)]
+    theory: BeamTheory,
+    #[serde(default)]
+    rotary_inertia: Option<bool>,
+    from: [f64; 3],
+    to: [f64; 3],
+    elements: usize,
+    first_node: u64,
+    #[serde(default)]
+    first_element: Option<usize>,
+    material: Spanned<String>,
+    section: Spanned<String>,
+    #[serde(default)]
+    orientation: Option<[f64; 3]>,
+    #[serde(default)]
+    set: Option<String>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct RawDof {
+    node: u64,
+    dof: DofKind,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+enum RawElement {
+    PlanarBeam {
+        id: usize,
+        nodes: [u64; 2],
+        material: String,
+        section: String,
+        #[serde(default)]
+        rotary_inertia: Option<bool>,
+    },
+    Beam {
+        id: usize,
+        nodes: [u64; 2],
+        material: String,
+        section: String,
+        #[serde(default)]
+        theory: BeamTheory,
+        #[serde(default)]
+        rotary_inertia: Option<bool>,
+        orientation: [f64; 3],
+    },
+    PointMass {
+        id: usize,
+        node: u64,
+        mass: f64,
+        #[serde(default)]
+        inertia: [f64; 6],
+    },
+    Spring {
+        id: usize,
+        dof: RawDof,
+        #[serde(default)]
+        to: Option<RawDof>,
+        stiffness: f64,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBoundary {
+    node: u64,
+    dofs: Vec<DofKind>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawInterface {
+    #[serde(default)]
+    dofs: Vec<Spanned<RawDof>>,
+    #[serde(default)]
+    nodes: Vec<Spanned<u64>>,
+    #[serde(default)]
+    support: Option<Vec<Spanned<RawDof>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRigidBody {
+    name: String,
+    mass: f64,
+    #[serde(default)]
+    inertia: [f64; 6],
+    center: [f64; 3],
+    #[serde(default)]
+    dofs: Option<Vec<DofKind>>,
+    #[serde(default)]
+    fixed: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConnection {
+    name: String,
+    node: u64,
+    to: String,
+    direction: [f64; 3],
+    stiffness: f64,
+    #[serde(default)]
+    damping: f64,
+    #[serde(default)]
+    point: Option<[f64; 3]>,
+    #[serde(default)]
+    track_x: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStudy {
+    omegas: Vec<f64>,
+    cases: Vec<Spanned<CaseSpec>>,
+}
+
+// ------------------------------------------------------------------ reader
+
+/// Reads and checks a model file.
+pub fn read_model_file(path: &Path) -> Result<ModelFile, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_model_file(path, &text)
+}
+
+/// Parses and checks the text of a model file (`path` names it in errors).
+pub fn parse_model_file(path: &Path, text: &str) -> Result<ModelFile, InputError> {
+    let ctx = Context { path, text };
+    let raw: RawFile = toml::from_str(text)
+        .map_err(|e| ctx.error(e.span().map(|s| s.start), e.message().to_string()))?;
+    ctx.build(raw)
+}
+
+struct Context<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Context<'_> {
+    fn line(&self, offset: usize) -> usize {
+        self.text[..offset.min(self.text.len())]
+            .matches('\n')
+            .count()
+            + 1
+    }
+
+    fn error(&self, offset: Option<usize>, message: impl Into<String>) -> InputError {
+        InputError::Invalid {
+            path: self.path.to_path_buf(),
+            line: offset.map(|o| self.line(o)),
+            message: message.into(),
+        }
+    }
+
+    fn at<T>(&self, s: &Spanned<T>, message: impl Into<String>) -> InputError {
+        let span = s.span();
+        self.error((span.end > 0).then_some(span.start), message)
+    }
+
+    fn build(&self, raw: RawFile) -> Result<ModelFile, InputError> {
+        // Materials and sections.
+        let mut materials = HashMap::new();
+        for m in &raw.material {
+            let mat = Material::new(
+                *m.youngs_modulus.get_ref(),
+                *m.poisson_ratio.get_ref(),
+                *m.density.get_ref(),
+            )
+            .map_err(|e| {
+                let which = if *m.density.get_ref() < 0.0 || !m.density.get_ref().is_finite() {
+                    &m.density
+                } else if *m.youngs_modulus.get_ref() <= 0.0 {
+                    &m.youngs_modulus
+                } else {
+                    &m.poisson_ratio
+                };
+                self.at(which, format!("material '{}': {e}", m.name.get_ref()))
+            })?;
+            if materials.insert(m.name.get_ref().clone(), mat).is_some() {
+                return Err(self.at(
+                    &m.name,
+                    format!("material '{}' is defined twice", m.name.get_ref()),
+                ));
+            }
+        }
+        let mut sections = HashMap::new();
+        for s in &raw.section {
+            let c = s
+                .get_ref()
+                .shape
+                .constants()
+                .map_err(|e| self.at(s, format!("section '{}': {e}", s.get_ref().name)))?;
+            if sections.insert(s.get_ref().name.clone(), c).is_some() {
+                return Err(self.at(
+                    s,
+                    format!("section '{}' is defined twice", s.get_ref().name),
+                ));
+            }
+        }
+        let props = |mat: &Spanned<String>,
+                     sec: &Spanned<String>,
+                     theory: BeamTheory,
+                     rotary: Option<bool>|
+         -> Result<BeamProperties, InputError> {
+            let m = materials.get(mat.get_ref()).ok_or_else(|| {
+                self.at(mat, format!("material '{}' is not defined", mat.get_ref()))
+            })?;
+            let s = sections.get(sec.get_ref()).ok_or_else(|| {
+                self.at(sec, format!("section '{}' is not defined", sec.get_ref()))
+            })?;
+            let mut p = BeamProperties::new(m.clone(), s.clone(), theory);
+            if let Some(r) = rotary {
+                p.rotary_inertia = r;
+            }
+            Ok(p)
+        };
+
+        // Nodes: explicit, then generated by beam lines.
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut node_line: HashMap<u64, usize> = HashMap::new();
+        let mut add_node = |id: u64,
+                            coords: [f64; 3],
+                            offset: usize,
+                            nodes: &mut Vec<Node>|
+         -> Result<(), InputError> {
+            if let Some(first) = node_line.insert(id, self.line(offset)) {
+                return Err(self.error(
+                    Some(offset),
+                    format!("node {id} is defined twice (first on line {first})"),
+                ));
+            }
+            if coords.iter().any(|c| !c.is_finite()) {
+                return Err(self.error(
+                    Some(offset),
+                    format!("node {id} has a non-finite coordinate"),
+                ));
+            }
+            nodes.push(Node { id, coords });
+            Ok(())
+        };
+        for n in &raw.nodes {
+            let (id, x, y, z) = *n.get_ref();
+            add_node(id, [x, y, z], n.span().start, &mut nodes)?;
+        }
+        let mut elements: Vec<Element> = Vec::new();
+        let mut element_line: HashMap<usize, usize> = HashMap::new();
+        let mut sets: BTreeMap<String, Vec<u64>> = BTreeMap::new();
+        let mut next_element = 1;
+        for line in &raw.beam_line {
+            let b = line.get_ref();
+            let offset = line.span().start;
+            if b.elements == 0 {
+                return Err(self.at(line, "beam_line needs at least one element"));
+            }
+            let p = props(&b.material, &b.section, b.theory, b.rotary_inertia)?;
+            if b.element == BeamKind::PlanarBeam && b.theory != BeamTheory::EulerBernoulli {
+                return Err(self.at(line, "planar-beam elements are Euler-Bernoulli; use element = \"beam\" for Timoshenko"));
+            }
+            let ids: Vec<u64> = (0..=b.elements as u64).map(|i| b.first_node + i).collect();
+            for (i, id) in ids.iter().enumerate() {
+                let t = i as f64 / b.elements as f64;
+                let c = [0, 1, 2].map(|k| b.from[k] + t * (b.to[k] - b.from[k]));
+                add_node(*id, c, offset, &mut nodes)?;
+            }
+            let first = b.first_element.unwrap_or(next_element);
+            for i in 0..b.elements {
+                let id = first + i;
+                let en = [ids[i], ids[i + 1]];
+                let e = match b.element {
+                    BeamKind::PlanarBeam => Element::PlanarBeam(PlanarBeam {
+                        id,
+                        nodes: en,
+                        properties: p.clone(),
+                    }),
+                    BeamKind::Beam => Element::Beam(Beam {
+                        id,
+                        nodes: en,
+                        properties: p.clone(),
+                        orientation: b.orientation.ok_or_else(|| {
+                            self.at(
+                                line,
+                                "beam_line of 3D beams needs an orientation (local y direction)",
+                            )
+                        })?,
+                    }),
+                };
+                self.add_element(e, offset, &mut elements, &mut element_line)?;
+            }
+            next_element = first + b.elements;
+            if let Some(set) = &b.set {
+                sets.entry(set.clone()).or_default().extend(ids);
+            }
+        }
+        let known: HashSet<u64> = nodes.iter().map(|n| n.id).collect();
+        let check_node = |node: u64, offset: usize, what: &str| -> Result<(), InputError> {
+            if known.contains(&node) {
+                Ok(())
+            } else {
+                Err(self.error(
+                    Some(offset),
+                    format!("{what} refers to node {node}, which does not exist"),
+                ))
+            }
+        };
+        for e in &raw.element {
+            let offset = e.span().start;
+            let element = match e.get_ref() {
+                RawElement::PlanarBeam {
+                    id,
+                    nodes: en,
+                    material,
+                    section,
+                    rotary_inertia,
+                } => {
+                    let sp = |s: &String| Spanned::new(e.span(), s.clone());
+                    Element::PlanarBeam(PlanarBeam {
+                        id: *id,
+                        nodes: *en,
+                        properties: props(
+                            &sp(material),
+                            &sp(section),
+                            BeamTheory::EulerBernoulli,
+                            *rotary_inertia,
+                        )?,
+                    })
+                }
+                RawElement::Beam {
+                    id,
+                    nodes: en,
+                    material,
+                    section,
+                    theory,
+                    rotary_inertia,
+                    orientation,
+                } => {
+                    let sp = |s: &String| Spanned::new(e.span(), s.clone());
+                    Element::Beam(Beam {
+                        id: *id,
+                        nodes: *en,
+                        properties: props(&sp(material), &sp(section), *theory, *rotary_inertia)?,
+                        orientation: *orientation,
+                    })
+                }
+                RawElement::PointMass {
+                    id,
+                    node,
+                    mass,
+                    inertia,
+                } => {
+                    flexbody_fem::require_non_negative(format!("mass of point mass {id}"), *mass)
+                        .map_err(|x| self.error(Some(offset), x.to_string()))?;
+                    Element::PointMass(PointMass {
+                        id: *id,
+                        node: *node,
+                        mass: *mass,
+                        inertia: *inertia,
+                    })
+                }
+                RawElement::Spring {
+                    id,
+                    dof,
+                    to,
+                    stiffness,
+                } => {
+                    flexbody_fem::require_positive(format!("stiffness of spring {id}"), *stiffness)
+                        .map_err(|x| self.error(Some(offset), x.to_string()))?;
+                    Element::Spring(Spring {
+                        id: *id,
+                        first: Dof::new(dof.node, dof.dof),
+                        second: to.map(|t| Dof::new(t.node, t.dof)),
+                        stiffness: *stiffness,
+                    })
+                }
+            };
+            for node in element.nodes() {
+                check_node(node, offset, &format!("element {}", element.id()))?;
+            }
+            self.add_element(element, offset, &mut elements, &mut element_line)?;
+        }
+        for (name, set) in &raw.sets {
+            for node in set.get_ref() {
+                check_node(*node, set.span().start, &format!("node set '{name}'"))?;
+            }
+            sets.entry(name.clone())
+                .or_default()
+                .extend(set.get_ref().iter().copied());
+        }
+        let mut fixed = Vec::new();
+        for b in &raw.boundary {
+            check_node(b.get_ref().node, b.span().start, "boundary condition")?;
+            fixed.extend(
+                b.get_ref()
+                    .dofs
+                    .iter()
+                    .map(|k| Dof::new(b.get_ref().node, *k)),
+            );
+        }
+        let model = Model::new(nodes, elements, sets, fixed.clone(), raw.damping).map_err(|e| {
+            // Point at the element or boundary line where we can.
+            let line = match &e {
+                flexbody_fem::FemError::ZeroLength { element }
+                | flexbody_fem::FemError::PlanarBeamNotAlongX { element }
+                | flexbody_fem::FemError::OrientationParallel { element, .. } => {
+                    element_line.get(element).copied()
+                }
+                flexbody_fem::FemError::UnknownDof { node, .. } => raw
+                    .boundary
+                    .iter()
+                    .find(|b| b.get_ref().node == *node)
+                    .map(|b| self.line(b.span().start)),
+                _ => None,
+            };
+            InputError::Invalid {
+                path: self.path.to_path_buf(),
+                line,
+                message: e.to_string(),
+            }
+        })?;
+        // Assemble once here so element errors (zero length, orientation)
+        // surface with their line before any computation starts.
+        for e in model.elements() {
+            e.matrices(&model).map_err(|x| InputError::Invalid {
+                path: self.path.to_path_buf(),
+                line: element_line.get(&e.id()).copied(),
+                message: x.to_string(),
+            })?;
+        }
+
+        // MBS: rigid bodies, track, connections.
+        let mut rigid_bodies = Vec::new();
+        let mut rigid_index: HashMap<String, Option<usize>> = HashMap::new();
+        for rb in &raw.rigid_body {
+            let b = rb.get_ref();
+            if b.name == "ground" || b.name == "track" {
+                return Err(self.at(rb, format!("rigid body name '{}' is reserved", b.name)));
+            }
+            flexbody_fem::require_positive(format!("mass of rigid body '{}'", b.name), b.mass)
+                .map_err(|e| self.at(rb, e.to_string()))?;
+            let idx = if b.fixed {
+                None
+            } else {
+                rigid_bodies.push(RigidBody {
+                    name: b.name.clone(),
+                    mass: b.mass,
+                    inertia: b.inertia,
+                    center: b.center,
+                    active: b.dofs.clone().unwrap_or_else(|| DofKind::ALL.to_vec()),
+                });
+                Some(rigid_bodies.len() - 1)
+            };
+            if rigid_index.insert(b.name.clone(), idx).is_some() {
+                return Err(self.at(rb, format!("rigid body '{}' is defined twice", b.name)));
+            }
+        }
+        if let Some(t) = raw.track {
+            if !(t.wavelength.is_finite() && t.wavelength > 0.0 && t.amplitude.is_finite()) {
+                return Err(self.error(
+                    None,
+                    "track: wavelength must be positive and amplitude finite",
+                ));
+            }
+        }
+        let mut connections = Vec::new();
+        let mut names = HashSet::new();
+        for c in &raw.connection {
+            let r = c.get_ref();
+            let offset = c.span().start;
+            if !names.insert(r.name.clone()) {
+                return Err(self.at(c, format!("connection '{}' is defined twice", r.name)));
+            }
+            check_node(r.node, offset, &format!("connection '{}'", r.name))?;
+            flexbody_fem::require_non_negative(
+                format!("stiffness of connection '{}'", r.name),
+                r.stiffness,
+            )
+            .and_then(|_| {
+                flexbody_fem::require_non_negative(
+                    format!("damping of connection '{}'", r.name),
+                    r.damping,
+                )
+            })
+            .map_err(|e| self.at(c, e.to_string()))?;
+            if flexbody_reduce::method::unit(r.direction).is_none() {
+                return Err(self.at(
+                    c,
+                    format!(
+                        "connection '{}': direction must be a non-zero vector",
+                        r.name
+                    ),
+                ));
+            }
+            let node_pos = model.coords(r.node);
+            let other = match r.to.as_str() {
+                "ground" => Endpoint::Ground,
+                "track" => {
+                    if raw.track.is_none() {
+                        return Err(self.at(c, format!("connection '{}' goes to the track, but there is no [track] table", r.name)));
+                    }
+                    Endpoint::Track {
+                        x: r.track_x.unwrap_or(node_pos[0]),
+                    }
+                }
+                name => match rigid_index.get(name) {
+                    Some(None) => Endpoint::Ground,
+                    Some(Some(i)) => Endpoint::Rigid {
+                        body: *i,
+                        point: r.point.unwrap_or(node_pos),
+                    },
+                    None => {
+                        return Err(self.at(
+                            c,
+                            format!("connection '{}' goes to '{}', which is neither ground, track nor a rigid body", r.name, name),
+                        ))
+                    }
+                },
+            };
+            for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+                .into_iter()
+                .enumerate()
+            {
+                if r.direction[k] != 0.0
+                    && model.dof_map().index_of(Dof::new(r.node, kind)).is_none()
+                {
+                    return Err(self.at(
+                        c,
+                        format!("connection '{}': node {} has no free DOF {} along the spring direction", r.name, r.node, kind),
+                    ));
+                }
+            }
+            connections.push(Connection {
+                name: r.name.clone(),
+                a: other,
+                b: Endpoint::Flexible {
+                    body: 0,
+                    node: r.node,
+                },
+                direction: r.direction,
+                stiffness: r.stiffness,
+                damping: r.damping,
+            });
+        }
+
+        // Interface: given, or what the connections act on.
+        let check_dof = |d: &Spanned<RawDof>, what: &str| -> Result<Dof, InputError> {
+            let dof = Dof::new(d.get_ref().node, d.get_ref().dof);
+            check_node(dof.node, d.span().start, what)?;
+            if model.dof_map().index_of(dof).is_none() {
+                return Err(self.at(d, format!("{what}: {dof} is not a free DOF of the model")));
+            }
+            Ok(dof)
+        };
+        let mut interface: Vec<Dof> = Vec::new();
+        let mut support = None;
+        if let Some(i) = &raw.interface {
+            for d in &i.dofs {
+                interface.push(check_dof(d, "interface")?);
+            }
+            for n in &i.nodes {
+                check_node(*n.get_ref(), n.span().start, "interface")?;
+                interface.extend(
+                    model
+                        .dof_map()
+                        .node_dofs(*n.get_ref())
+                        .into_iter()
+                        .map(|(k, _)| Dof::new(*n.get_ref(), k)),
+                );
+            }
+            if let Some(s) = &i.support {
+                support = Some(
+                    s.iter()
+                        .map(|d| check_dof(d, "interface support"))
+                        .collect::<Result<Vec<_>, _>>()?,
+                );
+            }
+        } else {
+            for c in &raw.connection {
+                let r = c.get_ref();
+                for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let d = Dof::new(r.node, kind);
+                    if r.direction[k] != 0.0 && !interface.contains(&d) {
+                        interface.push(d);
+                    }
+                }
+            }
+        }
+        let mut seen = HashSet::new();
+        for d in &interface {
+            if !seen.insert(*d) {
+                return Err(self.error(None, format!("interface: {d} is listed twice")));
+            }
+        }
+
+        let study = match raw.study {
+            None => None,
+            Some(s) => {
+                for o in &s.omegas {
+                    if !(o.is_finite() && *o >= 0.0) {
+                        return Err(self.error(
+                            None,
+                            format!("study: omega {o} must be a finite frequency >= 0 (rad/s)"),
+                        ));
+                    }
+                }
+                for c in &s.cases {
+                    if c.get_ref().method == Method::Guyan && c.get_ref().modes > 0 {
+                        return Err(
+                            self.at(c, "study: the guyan method takes no eigenmodes (modes = 0)")
+                        );
+                    }
+                }
+                Some(StudySpec {
+                    omegas: s.omegas,
+                    cases: s.cases.into_iter().map(|c| c.into_inner()).collect(),
+                })
+            }
+        };
+        Ok(ModelFile {
+            path: self.path.to_path_buf(),
+            title: raw.title,
+            model,
+            interface,
+            support,
+            rigid_bodies,
+            connections,
+            track: raw.track,
+            study,
+        })
+    }
+
+    fn add_element(
+        &self,
+        e: Element,
+        offset: usize,
+        elements: &mut Vec<Element>,
+        lines: &mut HashMap<usize, usize>,
+    ) -> Result<(), InputError> {
+        if let Some(first) = lines.insert(e.id(), self.line(offset)) {
+            return Err(self.error(
+                Some(offset),
+                format!(
+                    "element {} is defined twice (first on line {first})",
+                    e.id()
+                ),
+            ));
+        }
+        elements.push(e);
+        Ok(())
+    }
+}

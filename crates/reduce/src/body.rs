@@ -1,0 +1,122 @@
+//! The reduced flexible body: plain data, the output of every method.
+
+use crate::method::Method;
+use faer::Mat;
+use flexbody_fem::{Dof, DofMap};
+use flexbody_linalg::eigen::{frequency_hz, generalized_symmetric};
+use flexbody_linalg::LinalgError;
+use serde::{Deserialize, Serialize};
+
+/// What a column of the Ritz basis is.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum ModeKind {
+    /// Rigid-body mode (eq. 12-13); `motion` is `ux`..`rz` of the reference point.
+    Rigid { motion: String },
+    /// Constraint mode of an interface DOF (eq. 14-17).
+    Constraint { dof: Dof },
+    /// Residual constraint mode (eq. 23-24 applied to eq. 17).
+    ResidualConstraint { dof: Dof },
+    /// Residual inertia-relief attachment mode (eq. 20, 23-24).
+    ResidualInertiaRelief { dof: Dof },
+    /// Eigenmode; `frequency_hz` of the problem it came from.
+    Eigen { frequency_hz: f64 },
+    /// Column of an orthonormalised basis with its frequency.
+    Orthonormal { frequency_hz: f64 },
+}
+
+/// A reduced flexible body: `u = T q` with `r` Ritz coordinates `q`.
+#[derive(Clone, Debug)]
+pub struct ReducedBody {
+    pub method: Method,
+    /// DOFs of the full model (rows of the basis).
+    pub dof_map: DofMap,
+    /// The Ritz basis `T` (m x r).
+    pub basis: Mat<f64>,
+    /// `M_red = T^T M T` (r x r, kg-consistent).
+    pub mass: Mat<f64>,
+    /// `K_red = T^T K T` of the free body (r x r).
+    pub stiffness: Mat<f64>,
+    /// `D_red = T^T D T` if the model has damping.
+    pub damping: Option<Mat<f64>>,
+    /// What each column of `T` is.
+    pub modes: Vec<ModeKind>,
+    /// Interface DOFs (rows `T_j` for coupling).
+    pub interface: Vec<Dof>,
+}
+
+impl ReducedBody {
+    /// Number of Ritz coordinates r.
+    pub fn r(&self) -> usize {
+        self.basis.ncols()
+    }
+
+    /// Rows of `T` for the given equation numbers (`T_j`, `T_e`).
+    pub fn rows(&self, equations: &[usize]) -> Mat<f64> {
+        Mat::from_fn(equations.len(), self.r(), |i, j| {
+            self.basis[(equations[i], j)]
+        })
+    }
+
+    /// The row of `T` of one DOF, if it is a DOF of the model.
+    pub fn row_of(&self, dof: Dof) -> Option<Vec<f64>> {
+        let i = self.dof_map.index_of(dof)?;
+        Some((0..self.r()).map(|j| self.basis[(i, j)]).collect())
+    }
+
+    /// Interface rows `T_j` (s x r), in the order of [`ReducedBody::interface`].
+    pub fn interface_rows(&self) -> Mat<f64> {
+        let eq: Vec<usize> = self
+            .interface
+            .iter()
+            .filter_map(|d| self.dof_map.index_of(*d))
+            .collect();
+        self.rows(&eq)
+    }
+
+    /// FE displacements `u = T q`.
+    pub fn displacements(&self, q: &[f64]) -> Vec<f64> {
+        (0..self.basis.nrows())
+            .map(|i| (0..self.r()).map(|j| self.basis[(i, j)] * q[j]).sum())
+            .collect()
+    }
+
+    /// Natural frequencies (Hz) of the free reduced body, ascending.
+    pub fn frequencies_hz(&self) -> Result<Vec<f64>, LinalgError> {
+        Ok(generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?.frequencies_hz())
+    }
+
+    /// The same body in an orthonormal basis: `M_red = I`, `K_red` diagonal
+    /// (the reduced eigenproblem `K_red x = w^2 M_red x` solved and `T`
+    /// rotated by its eigenvectors). The span, and so every response, is
+    /// unchanged; each column keeps its frequency.
+    pub fn orthonormalized(&self) -> Result<ReducedBody, LinalgError> {
+        let pairs = generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?;
+        let x = &pairs.vectors;
+        let r = x.ncols();
+        let basis = &self.basis * x;
+        let mass = Mat::from_fn(r, r, |i, j| if i == j { 1.0 } else { 0.0 });
+        let stiffness = Mat::from_fn(r, r, |i, j| if i == j { pairs.values[i] } else { 0.0 });
+        let damping = self.damping.as_ref().map(|d| {
+            let mut p = x.transpose() * d * x;
+            flexbody_linalg::sparse::symmetrize(&mut p);
+            p
+        });
+        Ok(ReducedBody {
+            method: self.method,
+            dof_map: self.dof_map.clone(),
+            basis,
+            mass,
+            stiffness,
+            damping,
+            modes: pairs
+                .values
+                .iter()
+                .map(|l| ModeKind::Orthonormal {
+                    frequency_hz: frequency_hz(*l),
+                })
+                .collect(),
+            interface: self.interface.clone(),
+        })
+    }
+}

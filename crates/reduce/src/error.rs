@@ -1,0 +1,70 @@
+//! Errors of mode computation and reduction, naming DOFs by node and kind.
+
+use flexbody_fem::{Dof, FemError};
+use flexbody_linalg::LinalgError;
+
+fn list(dofs: &[Dof]) -> String {
+    let shown: Vec<String> = dofs.iter().take(8).map(|d| d.to_string()).collect();
+    let more = if dofs.len() > 8 {
+        format!(" and {} more", dofs.len() - 8)
+    } else {
+        String::new()
+    };
+    format!("{}{}", shown.join(", "), more)
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReduceError {
+    /// K_NN of static condensation is singular (eq. 15): the boundary DOFs
+    /// do not support the body statically.
+    #[error(
+        "the interface DOFs ({}) leave a mechanism: K_NN is singular (report eq. 15); \
+         these DOFs can move without strain: {}. Add interface DOFs that support the body \
+         statically, or use the free-residual method",
+        list(.interface),
+        list(.free)
+    )]
+    Mechanism { interface: Vec<Dof>, free: Vec<Dof> },
+    /// A stiffness matrix is singular at a DOF (an internal mechanism).
+    #[error("{what} is singular at {dof}: that DOF can move without strain (a mechanism, or a DOF no element stiffens)")]
+    Singular { what: &'static str, dof: Dof },
+    /// The body is free but its geometric rigid-body modes carry strain energy.
+    #[error("rigid-body modes carry strain energy (relative {0:e}): the stiffness matrix is not that of a free body")]
+    RigidModesStrained(f64),
+    #[error(
+        "the support for inertia-relief modes has {given} DOFs ({}); a statically determinate support needs exactly {needed} that fix all rigid-body modes",
+        list(.dofs)
+    )]
+    SupportCount {
+        given: usize,
+        needed: usize,
+        dofs: Vec<Dof>,
+    },
+    #[error(
+        "the support ({}) does not fix every rigid-body motion and would constrain the body elsewhere (report Bild 4b); choose DOFs that fix translation and rotation, e.g. all DOFs of one node",
+        list(.0)
+    )]
+    SupportNotDeterminate(Vec<Dof>),
+    #[error("{requested} eigenmodes requested but the model has only {available}")]
+    NotEnoughModes { requested: usize, available: usize },
+    #[error("the free body has {zero} zero-frequency modes but only {rigid} rigid-body modes: it contains a mechanism")]
+    FreeMechanism { zero: usize, rigid: usize },
+    #[error("method {0} needs interface DOFs; none are given")]
+    NoInterface(&'static str),
+    #[error("interface DOF {0} is not a free DOF of the model")]
+    UnknownInterfaceDof(Dof),
+    #[error("interface DOF {0} is listed twice")]
+    DuplicateInterfaceDof(Dof),
+    #[error("the guyan method uses no eigenmodes; got modes = {0}")]
+    GuyanWithModes(usize),
+    #[error("method free needs at least one mode")]
+    NoModes,
+    #[error(
+        "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); the sparse Lanczos solver is not built yet"
+    )]
+    TooLargeForDense { dofs: usize, limit: usize },
+    #[error(transparent)]
+    Fem(#[from] FemError),
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+}

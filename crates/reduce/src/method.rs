@@ -1,0 +1,348 @@
+//! The reduction methods of report section 6, each a choice of Ritz basis:
+//!
+//! | method | report | basis T |
+//! | --- | --- | --- |
+//! | `free` | 6.3 | free eigenmodes, rigid-body modes included |
+//! | `craig-bampton` | 6.4 | constraint modes + fixed-interface eigenmodes |
+//! | `elastic-residual` | 6.5 | residual constraint modes + eigenmodes of the elastically supported body |
+//! | `free-residual` | 6.6 | rigid-body modes + residual inertia-relief attachment modes + free eigenmodes |
+//! | `guyan` | static condensation | constraint modes |
+//!
+//! Every method reduces the FREE stiffness and mass, `K_red = T^T K T`,
+//! `M_red = T^T M T` (eq. 5-7). For `elastic-residual` the springs only shape
+//! the basis; they are left to the MBS, which adds `T_j^T c_n K_n T_j`
+//! (eq. 26-29), so they are never counted twice.
+
+use crate::body::{ModeKind, ReducedBody};
+use crate::modes::{
+    self, constraint_modes, eigenmodes, fixed_interface_eigenmodes,
+    inertia_relief_attachment_modes, residual_modes, rigid_body_modes,
+    statically_determinate_support, unit_loads, RigidModes,
+};
+use crate::ReduceError;
+use faer::sparse::Triplet;
+use faer::Mat;
+use flexbody_fem::{Dof, DofKind, Element, FemError, Model, SystemMatrices};
+use flexbody_linalg::{sparse, SparseMat};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Reduction method (CLI and model-file name in kebab-case).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    Free,
+    CraigBampton,
+    ElasticResidual,
+    FreeResidual,
+    Guyan,
+}
+
+impl Method {
+    pub const ALL: [Method; 5] = [
+        Method::Free,
+        Method::CraigBampton,
+        Method::ElasticResidual,
+        Method::FreeResidual,
+        Method::Guyan,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Free => "free",
+            Method::CraigBampton => "craig-bampton",
+            Method::ElasticResidual => "elastic-residual",
+            Method::FreeResidual => "free-residual",
+            Method::Guyan => "guyan",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == s)
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A spring from a node to ground along a direction: the elastic support of
+/// report 6.5 (Bild 8). `C_n = c d d^T` on the node's translations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GroundSpring {
+    pub node: u64,
+    /// Unit direction (normalised on use).
+    pub direction: [f64; 3],
+    /// Stiffness (N/m).
+    pub stiffness: f64,
+}
+
+/// What to reduce and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reduction {
+    pub method: Method,
+    /// Eigenmodes e. For `free` the total r, rigid-body modes included.
+    pub modes: usize,
+    /// Interface DOFs (H): where the MBS acts on the body.
+    pub interface: Vec<Dof>,
+    /// Statically determinate support for inertia-relief modes; `None`:
+    /// chosen automatically (all DOFs of the first interface node first).
+    pub support: Option<Vec<Dof>>,
+    /// Elastic supports for `elastic-residual`.
+    pub springs: Vec<GroundSpring>,
+    /// Rotate the basis so that `M_red = I`, `K_red` diagonal.
+    pub orthonormalize: bool,
+}
+
+impl Reduction {
+    pub fn new(method: Method, modes: usize, interface: Vec<Dof>) -> Self {
+        Self {
+            method,
+            modes,
+            interface,
+            support: None,
+            springs: Vec::new(),
+            orthonormalize: false,
+        }
+    }
+}
+
+/// Reduces `model` (with its assembled `matrices`) as `spec` says.
+pub fn reduce(
+    model: &Model,
+    matrices: &SystemMatrices,
+    spec: &Reduction,
+) -> Result<ReducedBody, ReduceError> {
+    let map = model.dof_map();
+    let (k, m) = (&matrices.stiffness, &matrices.mass);
+    let boundary = interface_equations(model, &spec.interface)?;
+    let needs_interface = spec.method != Method::Free;
+    if needs_interface && boundary.is_empty() {
+        return Err(ReduceError::NoInterface(spec.method.name()));
+    }
+    let rigid = free_body_rigid_modes(model, matrices)?;
+    let e = spec.modes;
+    let (basis, kinds) = match spec.method {
+        Method::Free => {
+            if e == 0 {
+                return Err(ReduceError::NoModes);
+            }
+            let phi = eigenmodes(k, m, e)?;
+            if e > rigid.count() {
+                check_gap(&phi.values, rigid.count())?;
+            }
+            let kinds = phi
+                .frequencies_hz()
+                .into_iter()
+                .map(|f| ModeKind::Eigen { frequency_hz: f })
+                .collect();
+            (phi.vectors, kinds)
+        }
+        Method::CraigBampton | Method::Guyan => {
+            if spec.method == Method::Guyan && e > 0 {
+                return Err(ReduceError::GuyanWithModes(e));
+            }
+            let psi = constraint_modes(k, &boundary, map, &rigid)?;
+            let phi = fixed_interface_eigenmodes(k, m, &boundary, e)?;
+            let mut kinds: Vec<ModeKind> = boundary
+                .iter()
+                .map(|&i| ModeKind::Constraint { dof: map.dof(i) })
+                .collect();
+            kinds.extend(eigen_kinds(&phi));
+            (concat(&[&psi, &phi.vectors]), kinds)
+        }
+        Method::ElasticResidual => {
+            let supported = sparse::add_scaled(k, 1.0, &support_stiffness(model, &spec.springs)?)?;
+            let phi = eigenmodes(&supported, m, e)?;
+            // The constraint modes of K and of K + C agree (C acts on H only).
+            let psi = constraint_modes(k, &boundary, map, &rigid)?;
+            let res = residual_modes(&psi, &phi.vectors, m);
+            let mut kinds: Vec<ModeKind> = boundary
+                .iter()
+                .map(|&i| ModeKind::ResidualConstraint { dof: map.dof(i) })
+                .collect();
+            kinds.extend(eigen_kinds(&phi));
+            (concat(&[&res, &phi.vectors]), kinds)
+        }
+        Method::FreeResidual => {
+            let nr = rigid.count();
+            let support = match &spec.support {
+                Some(dofs) => interface_equations(model, dofs)?,
+                None => {
+                    let first = map.dof(boundary[0]).node;
+                    let preferred: Vec<usize> =
+                        map.node_dofs(first).into_iter().map(|(_, i)| i).collect();
+                    statically_determinate_support(&rigid, &preferred)
+                }
+            };
+            let loads = unit_loads(map.len(), &boundary);
+            let t_a = inertia_relief_attachment_modes(k, m, &rigid, &loads, &support, map)?;
+            let all = eigenmodes(k, m, nr + e.max(1).min(map.len().saturating_sub(nr)))?;
+            check_gap(&all.values, nr)?;
+            let mut phi = all.slice(nr, nr + e);
+            // Exact M-orthogonality to the geometric rigid-body modes.
+            phi.vectors = residual_modes(&phi.vectors, &rigid.vectors, m);
+            let res = residual_modes(&t_a, &phi.vectors, m);
+            let mut kinds: Vec<ModeKind> = rigid
+                .motions
+                .iter()
+                .map(|k| ModeKind::Rigid {
+                    motion: k.name().to_string(),
+                })
+                .collect();
+            kinds.extend(
+                boundary
+                    .iter()
+                    .map(|&i| ModeKind::ResidualInertiaRelief { dof: map.dof(i) }),
+            );
+            kinds.extend(eigen_kinds(&phi));
+            (concat(&[&rigid.vectors, &res, &phi.vectors]), kinds)
+        }
+    };
+    let body = ReducedBody {
+        method: spec.method,
+        dof_map: map.clone(),
+        mass: sparse::project(m, basis.as_ref()),
+        stiffness: sparse::project(k, basis.as_ref()),
+        damping: matrices
+            .damping
+            .as_ref()
+            .map(|d| sparse::project(d, basis.as_ref())),
+        basis,
+        modes: kinds,
+        interface: spec.interface.clone(),
+    };
+    if spec.orthonormalize {
+        Ok(body.orthonormalized()?)
+    } else {
+        Ok(body)
+    }
+}
+
+/// Equation numbers of `dofs`, checked: known, free, not repeated.
+pub fn interface_equations(model: &Model, dofs: &[Dof]) -> Result<Vec<usize>, ReduceError> {
+    let mut eq = Vec::with_capacity(dofs.len());
+    for d in dofs {
+        let i = model
+            .dof_map()
+            .index_of(*d)
+            .ok_or(ReduceError::UnknownInterfaceDof(*d))?;
+        if eq.contains(&i) {
+            return Err(ReduceError::DuplicateInterfaceDof(*d));
+        }
+        eq.push(i);
+    }
+    Ok(eq)
+}
+
+/// Rigid-body modes of a free model (about the node centroid); none for a
+/// supported model (fixed DOFs or springs to ground).
+pub fn free_body_rigid_modes(
+    model: &Model,
+    matrices: &SystemMatrices,
+) -> Result<RigidModes, ReduceError> {
+    let supported = model.fixed_dofs().next().is_some()
+        || model
+            .elements()
+            .iter()
+            .any(|e| matches!(e, Element::Spring(s) if s.second.is_none()));
+    if supported {
+        return Ok(RigidModes {
+            vectors: Mat::zeros(model.dof_map().len(), 0),
+            motions: vec![],
+        });
+    }
+    let rigid = rigid_body_modes(model, &matrices.mass, model.centroid());
+    let ratio = modes::rigid::strain_energy_ratio(&matrices.stiffness, &rigid);
+    if ratio > 1e-8 {
+        return Err(ReduceError::RigidModesStrained(ratio));
+    }
+    Ok(rigid)
+}
+
+/// The first `nr` eigenvalues are the rigid-body modes (round-off zeros);
+/// the next must be clearly elastic, else the body has a mechanism.
+fn check_gap(values: &[f64], nr: usize) -> Result<(), ReduceError> {
+    if values.len() <= nr {
+        return Ok(());
+    }
+    let rigid_max = values[..nr].iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    let first = values[nr];
+    let scale = values.last().copied().unwrap_or(0.0).abs();
+    if first <= 1e6 * rigid_max || first <= 1e-14 * scale {
+        let zero = values
+            .iter()
+            .filter(|l| l.abs() <= 1e-6 * scale.max(first))
+            .count();
+        return Err(ReduceError::FreeMechanism {
+            zero: zero.max(nr + 1),
+            rigid: nr,
+        });
+    }
+    Ok(())
+}
+
+/// Sparse `sum_n c_n d_n d_n^T` on the translations of each spring's node.
+pub fn support_stiffness(
+    model: &Model,
+    springs: &[GroundSpring],
+) -> Result<SparseMat, ReduceError> {
+    let map = model.dof_map();
+    let mut t = Vec::new();
+    for s in springs {
+        flexbody_fem::require_positive(
+            format!("stiffness of the spring at node {}", s.node),
+            s.stiffness,
+        )?;
+        let d = unit(s.direction).ok_or_else(|| {
+            ReduceError::Fem(FemError::InvalidValue {
+                what: format!("direction of the spring at node {}", s.node),
+                rule: "non-zero",
+                value: 0.0,
+            })
+        })?;
+        let kinds = [DofKind::Ux, DofKind::Uy, DofKind::Uz];
+        let mut eq = [None; 3];
+        for a in 0..3 {
+            if d[a] != 0.0 {
+                eq[a] = Some(model.equation(Dof::new(s.node, kinds[a]), "support spring")?);
+            }
+        }
+        for a in 0..3 {
+            for b in 0..3 {
+                if let (Some(i), Some(j)) = (eq[a], eq[b]) {
+                    t.push(Triplet::new(i, j, s.stiffness * d[a] * d[b]));
+                }
+            }
+        }
+    }
+    Ok(sparse::from_triplets(map.len(), map.len(), &t)?)
+}
+
+/// `v / |v|`, or `None` for a zero vector.
+pub fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (n > 0.0 && n.is_finite()).then(|| [v[0] / n, v[1] / n, v[2] / n])
+}
+
+fn eigen_kinds(phi: &modes::EigenModes) -> Vec<ModeKind> {
+    phi.frequencies_hz()
+        .into_iter()
+        .map(|f| ModeKind::Eigen { frequency_hz: f })
+        .collect()
+}
+
+/// Side-by-side concatenation of column blocks with equal row counts.
+fn concat(blocks: &[&Mat<f64>]) -> Mat<f64> {
+    let n = blocks.first().map_or(0, |b| b.nrows());
+    let cols: usize = blocks.iter().map(|b| b.ncols()).sum();
+    let mut out = Mat::zeros(n, cols);
+    let mut c0 = 0;
+    for b in blocks {
+        out.subcols_mut(c0, b.ncols()).copy_from(b.as_ref());
+        c0 += b.ncols();
+    }
+    out
+}

@@ -1,0 +1,31 @@
+//! Attachment modes (report 5.2.2): `T_stat,a = K^-1 P_1` for a supported
+//! body, with unit loads `P_1` at the interface DOFs.
+
+use crate::ReduceError;
+use faer::Mat;
+use flexbody_fem::DofMap;
+use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::{LinalgError, SparseMat};
+
+/// Unit-load matrix `P_1` (m x s): a unit force (or moment) at each of the
+/// equations in `dofs`.
+pub fn unit_loads(n: usize, dofs: &[usize]) -> Mat<f64> {
+    Mat::from_fn(n, dofs.len(), |i, j| if dofs[j] == i { 1.0 } else { 0.0 })
+}
+
+/// Attachment modes `K^-1 P_1` (one factorisation, one block solve).
+/// `K` must be regular (a supported body).
+pub fn attachment_modes(
+    stiffness: &SparseMat,
+    loads: &Mat<f64>,
+    dof_map: &DofMap,
+) -> Result<Mat<f64>, ReduceError> {
+    let ldlt = Ldlt::factorize(stiffness).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => ReduceError::Singular {
+            what: "the stiffness matrix of the supported body",
+            dof: dof_map.dof(index),
+        },
+        other => other.into(),
+    })?;
+    Ok(ldlt.solve(loads.as_ref()))
+}

@@ -1,0 +1,87 @@
+//! Constraint modes by static condensation (report 5.2.1, eq. 14-17).
+//!
+//! Sorting the DOFs into boundary (H, the interface) and interior (N),
+//! `K_NN u_N = -K_NH u_H` (eq. 15); a unit displacement of each boundary DOF,
+//! the others held, gives one column `[I; -K_NN^-1 K_NH]` (eq. 16), with the
+//! sorting undone (eq. 17). `K_NN` must be regular: the boundary DOFs must at
+//! least support the body statically; if not, the error names the DOFs that
+//! can still move.
+
+use super::{complement, rigid::RigidModes};
+use crate::ReduceError;
+use faer::Mat;
+use flexbody_fem::DofMap;
+use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
+
+/// Constraint modes `T_stat,c` (m x s), one per boundary equation in
+/// `boundary`. `rigid` (possibly empty) serves to name the free DOFs when
+/// the boundary does not support the body.
+pub fn constraint_modes(
+    stiffness: &SparseMat,
+    boundary: &[usize],
+    dof_map: &DofMap,
+    rigid: &RigidModes,
+) -> Result<Mat<f64>, ReduceError> {
+    let n = stiffness.nrows();
+    let interior = complement(boundary, n);
+    mechanism_check(boundary, &interior, dof_map, rigid)?;
+    let k_nn = sparse::submatrix(stiffness, &interior, &interior);
+    let k_nh = sparse::submatrix(stiffness, &interior, boundary);
+    let ldlt = Ldlt::factorize(&k_nn).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
+            interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
+            free: vec![dof_map.dof(interior[index])],
+        },
+        other => other.into(),
+    })?;
+    let rhs = -k_nh.to_dense();
+    let u_n = ldlt.solve(rhs.as_ref());
+    let mut t = Mat::zeros(n, boundary.len());
+    for (j, &h) in boundary.iter().enumerate() {
+        t[(h, j)] = 1.0;
+        for (k, &i) in interior.iter().enumerate() {
+            t[(i, j)] = u_n[(k, j)];
+        }
+    }
+    Ok(t)
+}
+
+/// If the boundary rows of the rigid-body modes do not have full rank, some
+/// rigid motion leaves the boundary at rest: K_NN is singular. Names the
+/// interior DOFs that motion moves most.
+fn mechanism_check(
+    boundary: &[usize],
+    interior: &[usize],
+    dof_map: &DofMap,
+    rigid: &RigidModes,
+) -> Result<(), ReduceError> {
+    let nr = rigid.count();
+    if nr == 0 {
+        return Ok(());
+    }
+    let rows = Mat::from_fn(boundary.len(), nr, |i, j| rigid.vectors[(boundary[i], j)]);
+    // Null space of the boundary rows: right singular vectors of tiny
+    // singular values (compare with the size of the modes themselves).
+    let gram = rows.transpose() * &rows;
+    let evd = gram
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+    let scale = rigid.vectors.norm_max().powi(2);
+    let s = evd.S();
+    let free_motion = (0..nr).find(|&k| s[k] <= 1e-12 * scale * boundary.len().max(1) as f64);
+    let Some(k) = free_motion else {
+        return Ok(());
+    };
+    let shape = &rigid.vectors * evd.U().col(k);
+    let mut moving: Vec<(f64, usize)> = interior
+        .iter()
+        .map(|&i| (shape[i].abs(), i))
+        .filter(|(a, _)| *a > 1e-8 * shape.norm_max())
+        .collect();
+    moving.sort_by(|a, b| b.0.total_cmp(&a.0));
+    Err(ReduceError::Mechanism {
+        interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
+        free: moving.into_iter().map(|(_, i)| dof_map.dof(i)).collect(),
+    })
+}

@@ -1,0 +1,137 @@
+//! Inertia-relief attachment modes (report 5.2.2, eq. 18-20).
+//!
+//! Unit loads on a free body accelerate it; with M-orthonormal rigid-body
+//! modes `T_st` the rigid acceleration is `T_st^T P_1` and its inertia forces
+//! `-M T_st T_st^T P_1`. Together with the unit loads they form
+//! self-equilibrated load groups `P_g = G^T P_1 = (I - M T_st T_st^T) P_1`,
+//! which do no work on rigid-body motion (`T_st^T P_g = 0`). Their static
+//! response is solved on a statically determinate support (Bild 4a: all DOFs
+//! of one node; never a support that constrains the body, Bild 4b), and the
+//! rigid part removed: `t = G x`, `G = I - T_st T_st^T M` (eq. 20).
+
+use super::{attachment::attachment_modes, complement, expand, rigid::RigidModes};
+use crate::ReduceError;
+use faer::Mat;
+use flexbody_fem::DofMap;
+use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
+
+/// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
+/// the rigid-body motion they cause.
+pub fn self_equilibrated_loads(mass: &SparseMat, rigid: &RigidModes, loads: &Mat<f64>) -> Mat<f64> {
+    let t = &rigid.vectors;
+    let rigid_accel = t.transpose() * loads;
+    loads - mass * (t * &rigid_accel)
+}
+
+/// Chooses a statically determinate support: exactly as many DOFs as there
+/// are rigid-body modes, with the rigid-mode rows at those DOFs regular (so
+/// they fix all rigid motion and constrain nothing else). DOFs of
+/// `preferred` (e.g. all DOFs of the first interface node) are taken first,
+/// then the DOFs that best complete the set.
+pub fn statically_determinate_support(rigid: &RigidModes, preferred: &[usize]) -> Vec<usize> {
+    let nr = rigid.count();
+    let m = rigid.vectors.nrows();
+    let row = |i: usize| -> Vec<f64> { (0..nr).map(|j| rigid.vectors[(i, j)]).collect() };
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut chosen = Vec::new();
+    let residual = |basis: &Vec<Vec<f64>>, mut v: Vec<f64>| -> Vec<f64> {
+        for _ in 0..2 {
+            for q in basis {
+                let c: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
+                for (x, y) in v.iter_mut().zip(q) {
+                    *x -= c * y;
+                }
+            }
+        }
+        v
+    };
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let scale = (0..m).map(|i| norm(&row(i))).fold(0.0, f64::max);
+    let take = |i: usize, basis: &mut Vec<Vec<f64>>, chosen: &mut Vec<usize>| -> bool {
+        let r = residual(basis, row(i));
+        let n = norm(&r);
+        if n > 1e-6 * scale {
+            basis.push(r.iter().map(|x| x / n).collect());
+            chosen.push(i);
+            true
+        } else {
+            false
+        }
+    };
+    for &i in preferred {
+        if chosen.len() == nr {
+            break;
+        }
+        take(i, &mut basis, &mut chosen);
+    }
+    while chosen.len() < nr {
+        let best = (0..m).filter(|i| !chosen.contains(i)).max_by(|&a, &b| {
+            norm(&residual(&basis, row(a))).total_cmp(&norm(&residual(&basis, row(b))))
+        });
+        match best {
+            Some(i) if take(i, &mut basis, &mut chosen) => {}
+            _ => break,
+        }
+    }
+    chosen.sort_unstable();
+    chosen
+}
+
+/// Checks that `support` is statically determinate for `rigid`.
+pub fn check_support(
+    rigid: &RigidModes,
+    support: &[usize],
+    dof_map: &DofMap,
+) -> Result<(), ReduceError> {
+    let nr = rigid.count();
+    let dofs = support.iter().map(|&i| dof_map.dof(i)).collect();
+    if support.len() != nr {
+        return Err(ReduceError::SupportCount {
+            given: support.len(),
+            needed: nr,
+            dofs,
+        });
+    }
+    let auto = statically_determinate_support(rigid, support);
+    if auto.len() != nr || auto.iter().any(|i| !support.contains(i)) {
+        return Err(ReduceError::SupportNotDeterminate(dofs));
+    }
+    Ok(())
+}
+
+/// Inertia-relief attachment modes `T_stat,a = G S°^-1 G^T P_1` (eq. 20),
+/// solved on the statically determinate `support`. One factorisation of the
+/// supported stiffness, one block solve for all load cases. Without
+/// rigid-body modes (a supported body) these are plain attachment modes.
+pub fn inertia_relief_attachment_modes(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+    support: &[usize],
+    dof_map: &DofMap,
+) -> Result<Mat<f64>, ReduceError> {
+    if rigid.count() == 0 {
+        return attachment_modes(stiffness, loads, dof_map);
+    }
+    check_support(rigid, support, dof_map)?;
+    let n = stiffness.nrows();
+    let p_g = self_equilibrated_loads(mass, rigid, loads);
+    let free = complement(support, n);
+    let k_ff = sparse::submatrix(stiffness, &free, &free);
+    let ldlt = Ldlt::factorize(&k_ff).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => ReduceError::Singular {
+            what: "the stiffness matrix on the statically determinate support",
+            dof: dof_map.dof(free[index]),
+        },
+        other => other.into(),
+    })?;
+    let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
+    let x = expand(&ldlt.solve(rhs.as_ref()), &free, n);
+    // t = G x = x - T_st (T_st^T M x).
+    let t = &rigid.vectors;
+    let mx = mass * &x;
+    let c = t.transpose() * &mx;
+    Ok(&x - t * &c)
+}

@@ -1,0 +1,39 @@
+//! The mode types of report section 5, one algorithm per file.
+
+pub mod attachment;
+pub mod constraint;
+pub mod eigen;
+pub mod inertia_relief;
+pub mod residual;
+pub mod rigid;
+
+pub use attachment::{attachment_modes, unit_loads};
+pub use constraint::constraint_modes;
+pub use eigen::{eigenmodes, fixed_interface_eigenmodes, EigenModes, DENSE_LIMIT};
+pub use inertia_relief::{
+    inertia_relief_attachment_modes, self_equilibrated_loads, statically_determinate_support,
+};
+pub use residual::residual_modes;
+pub use rigid::{rigid_body_modes, RigidModes};
+
+use faer::Mat;
+
+/// Scatters rows of `part` (for equations `rows`) into an `n`-row matrix of zeros.
+pub(crate) fn expand(part: &Mat<f64>, rows: &[usize], n: usize) -> Mat<f64> {
+    let mut full = Mat::zeros(n, part.ncols());
+    for (k, &i) in rows.iter().enumerate() {
+        for j in 0..part.ncols() {
+            full[(i, j)] = part[(k, j)];
+        }
+    }
+    full
+}
+
+/// Equations of `0..n` not in `taken`.
+pub(crate) fn complement(taken: &[usize], n: usize) -> Vec<usize> {
+    let mut mask = vec![false; n];
+    for &i in taken {
+        mask[i] = true;
+    }
+    (0..n).filter(|&i| !mask[i]).collect()
+}

@@ -1,0 +1,81 @@
+//! Rigid-body modes from geometry (report eq. 12-13).
+//!
+//! For a node at `x_j` and a reference point `x_sp`, the rigid motion
+//! `(u, v, w, bx, by, bz)` of the reference point moves the node by
+//! `u_j = u_sp + beta x (x_j - x_sp)` and rotates it by `beta` (eq. 12).
+//! Stacking these rows for all DOFs gives six candidate modes (eq. 13); the
+//! ones the model's DOFs can carry survive M-orthonormalisation
+//! (`T_st^T M T_st = I`): 6 for a 3D body, 2 (heave, pitch) for a planar
+//! bending beam.
+
+use faer::Mat;
+use flexbody_fem::{DofKind, Model};
+use flexbody_linalg::orthonormal::m_orthonormalize;
+use flexbody_linalg::SparseMat;
+
+/// M-orthonormal rigid-body modes and which motion each came from.
+#[derive(Clone, Debug)]
+pub struct RigidModes {
+    /// `T_st` (m x n_rigid), `T_st^T M T_st = I`.
+    pub vectors: Mat<f64>,
+    /// `ux`..`rz`: the reference-point motion each column started from.
+    pub motions: Vec<DofKind>,
+}
+
+impl RigidModes {
+    pub fn count(&self) -> usize {
+        self.vectors.ncols()
+    }
+}
+
+/// The `m x 6` matrix of eq. 13 about `reference` (no normalisation).
+pub fn rigid_body_transformation(model: &Model, reference: [f64; 3]) -> Mat<f64> {
+    let map = model.dof_map();
+    Mat::from_fn(map.len(), 6, |i, col| {
+        let dof = map.dof(i);
+        let x = model.coords(dof.node);
+        let r = [
+            x[0] - reference[0],
+            x[1] - reference[1],
+            x[2] - reference[2],
+        ];
+        // Row of R_j (eq. 12) for this DOF kind, column `col`.
+        match (dof.kind, col) {
+            (DofKind::Ux, 0) | (DofKind::Uy, 1) | (DofKind::Uz, 2) => 1.0,
+            (DofKind::Rx, 3) | (DofKind::Ry, 4) | (DofKind::Rz, 5) => 1.0,
+            (DofKind::Ux, 4) => r[2],
+            (DofKind::Ux, 5) => -r[1],
+            (DofKind::Uy, 3) => -r[2],
+            (DofKind::Uy, 5) => r[0],
+            (DofKind::Uz, 3) => r[1],
+            (DofKind::Uz, 4) => -r[0],
+            _ => 0.0,
+        }
+    })
+}
+
+/// Rigid-body modes of a free model about `reference` (eq. 12-13),
+/// M-orthonormalised; motions the DOFs cannot carry are dropped.
+pub fn rigid_body_modes(model: &Model, mass: &SparseMat, reference: [f64; 3]) -> RigidModes {
+    let t = rigid_body_transformation(model, reference);
+    let o = m_orthonormalize(t.as_ref(), mass, 1e-8);
+    RigidModes {
+        motions: o.kept.iter().map(|&j| DofKind::ALL[j]).collect(),
+        vectors: o.vectors,
+    }
+}
+
+/// `||K T_st|| / (||K|| ||T_st||)` in max norms: zero (round-off) for a free
+/// body.
+pub fn strain_energy_ratio(stiffness: &SparseMat, rigid: &RigidModes) -> f64 {
+    if rigid.count() == 0 {
+        return 0.0;
+    }
+    let kt = stiffness * &rigid.vectors;
+    let k_max = flexbody_linalg::sparse::max_abs_diagonal(stiffness);
+    let t_max = rigid.vectors.norm_max();
+    if k_max == 0.0 || t_max == 0.0 {
+        return 0.0;
+    }
+    kt.norm_max() / (k_max * t_max)
+}

@@ -1,0 +1,115 @@
+//! SVG plots of a study case, like the report's figures 6-10: displacement
+//! w(x), bending moment M(x) and shear force Q(x), reduced over reference.
+//! Real parts are drawn (the in-phase response; the example's excitation is
+//! real). SVG needs no fonts.
+
+use crate::study::{BeamResponse, Field};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Writes one SVG with three panels (w, M, Q) to `path`.
+pub fn plot_case(
+    path: &Path,
+    title: &str,
+    reference: &BeamResponse,
+    reduced: &BeamResponse,
+) -> Result<(), String> {
+    let tmp = path.with_extension("svg.tmp");
+    draw(&tmp, title, reference, reduced)
+        .map_err(|e| format!("{}: cannot draw: {e}", path.display()))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("{}: cannot write: {e}", path.display())
+    })
+}
+
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+fn draw(path: &Path, title: &str, reference: &BeamResponse, reduced: &BeamResponse) -> DrawResult {
+    let root = SVGBackend::new(path, (900, 1000)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 22))?;
+    let panels = root.split_evenly((3, 1));
+    let quantities: [(&str, &str, &Field, &Field); 3] = [
+        ("displacement w(x)", "w (m)", &reference.w, &reduced.w),
+        ("bending moment M(x)", "M (N m)", &reference.m, &reduced.m),
+        ("shear force Q(x)", "Q (N)", &reference.q, &reduced.q),
+    ];
+    for (area, (caption, unit, refd, red)) in panels.iter().zip(quantities) {
+        panel(area, caption, unit, refd, red)?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn panel(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    caption: &str,
+    unit: &str,
+    reference: &Field,
+    reduced: &Field,
+) -> DrawResult {
+    let xs = reference.x.iter().chain(&reduced.x);
+    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(*x), b.max(*x))
+    });
+    let ys = reference.re.iter().chain(&reduced.re);
+    let (mut y0, mut y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+        (a.min(*y), b.max(*y))
+    });
+    if !(y0.is_finite() && y1.is_finite()) {
+        (y0, y1) = (-1.0, 1.0);
+    }
+    let pad = ((y1 - y0) * 0.08)
+        .max(y1.abs().max(y0.abs()) * 1e-3)
+        .max(1e-12);
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad)..(y1 + pad))?;
+    chart
+        .configure_mesh()
+        .x_desc("x (m)")
+        .y_desc(unit)
+        .y_label_formatter(&tick_label)
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new(
+            reference
+                .x
+                .iter()
+                .copied()
+                .zip(reference.re.iter().copied()),
+            BLACK.stroke_width(2),
+        ))?
+        .label("reference (full model)")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+    chart
+        .draw_series(DashedLineSeries::new(
+            reduced.x.iter().copied().zip(reduced.re.iter().copied()),
+            6,
+            4,
+            RED.stroke_width(2),
+        ))?
+        .label("reduced")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
+    Ok(())
+}
+
+/// Tick labels: plain decimals for moderate magnitudes, else scientific.
+fn tick_label(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-2..1e5).contains(&a) {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.2e}")
+    }
+}

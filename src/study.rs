@@ -1,0 +1,237 @@
+//! The report's comparison (section 6): each reduction method against the
+//! full model ("Vergleichslösung"), both coupled into the same MBS and solved
+//! and recovered the same way, at each excitation frequency.
+//!
+//! Accuracy figures, per case and Omega: relative errors of the displacement
+//! w (uz at the nodes), the bending moment M (My) and the shear force Q (Qz)
+//! at the element ends, `max |reduced - reference| / max |reference|`, with
+//! complex amplitudes compared by modulus.
+
+use crate::fem::{assemble, DofKind, SystemMatrices};
+use crate::io::{CaseSpec, ModelFile, StudySpec};
+use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
+use crate::recover::{harmonic_section_forces, nodal_values};
+use crate::reduce::{reduce, Method, ReduceError, Reduction};
+use serde::Serialize;
+
+/// A quantity along the beam: positions (m) and complex amplitudes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Field {
+    pub x: Vec<f64>,
+    pub re: Vec<f64>,
+    pub im: Vec<f64>,
+}
+
+impl Field {
+    /// `max |self - reference| / max |reference|` (moduli of complex values).
+    pub fn relative_error(&self, reference: &Field) -> f64 {
+        let scale = reference
+            .re
+            .iter()
+            .zip(&reference.im)
+            .map(|(a, b)| a.hypot(*b))
+            .fold(0.0, f64::max);
+        let diff = self
+            .re
+            .iter()
+            .zip(&self.im)
+            .zip(reference.re.iter().zip(&reference.im))
+            .map(|((a, b), (c, d))| (a - c).hypot(b - d))
+            .fold(0.0, f64::max);
+        if scale > 0.0 {
+            diff / scale
+        } else {
+            diff
+        }
+    }
+}
+
+/// Displacement w(x), bending moment M(x), shear force Q(x) and connection
+/// forces of one harmonic state.
+#[derive(Clone, Debug, Default)]
+pub struct BeamResponse {
+    pub w: Field,
+    pub m: Field,
+    pub q: Field,
+    /// Connection force amplitudes (N), (re, im).
+    pub forces: Vec<(f64, f64)>,
+}
+
+/// One row of the study table.
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseRow {
+    pub method: Method,
+    pub r: usize,
+    /// Excitation frequency (rad/s).
+    pub omega: f64,
+    pub err_w: f64,
+    pub err_m: f64,
+    pub err_q: f64,
+}
+
+/// A case's result at one frequency, with the curves behind the errors.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    pub case: CaseSpec,
+    pub row: CaseRow,
+    pub reduced: BeamResponse,
+}
+
+/// The whole study: the reference per frequency, then every case.
+#[derive(Clone, Debug)]
+pub struct StudyResult {
+    pub title: Option<String>,
+    /// `(omega, reference response)` per excitation frequency.
+    pub references: Vec<(f64, BeamResponse)>,
+    pub cases: Vec<CaseResult>,
+}
+
+impl StudyResult {
+    pub fn rows(&self) -> Vec<CaseRow> {
+        self.cases.iter().map(|c| c.row.clone()).collect()
+    }
+}
+
+/// Errors of the study, naming the case.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    #[error("{0}: the model file has no [study] table")]
+    NoStudy(String),
+    #[error("reference solution: {0}")]
+    Reference(String),
+    #[error("case {method} with modes = {modes}: {source}")]
+    Reduce {
+        method: Method,
+        modes: usize,
+        #[source]
+        source: ReduceError,
+    },
+    #[error("case {method} with modes = {modes}: {message}")]
+    Case {
+        method: Method,
+        modes: usize,
+        message: String,
+    },
+}
+
+/// Runs the study of `file` (its `[study]` table).
+pub fn run_study(file: &ModelFile) -> Result<StudyResult, StudyError> {
+    let spec = file
+        .study
+        .as_ref()
+        .ok_or_else(|| StudyError::NoStudy(file.path.display().to_string()))?;
+    run_cases(file, spec)
+}
+
+/// Runs the given cases of a study on `file`.
+pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, StudyError> {
+    let matrices = assemble(&file.model).map_err(|e| StudyError::Reference(e.to_string()))?;
+    let full = FlexibleBody::Full {
+        dof_map: file.model.dof_map(),
+        matrices: &matrices,
+    };
+    let references = spec
+        .omegas
+        .iter()
+        .map(|&omega| {
+            respond(file, full, omega)
+                .map(|r| (omega, r))
+                .map_err(|e| StudyError::Reference(e.to_string()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut cases = Vec::new();
+    for case in &spec.cases {
+        let body = reduce_case(file, &matrices, case)?;
+        for (omega, reference) in &references {
+            let reduced = respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| {
+                StudyError::Case {
+                    method: case.method,
+                    modes: case.modes,
+                    message: e.to_string(),
+                }
+            })?;
+            let row = CaseRow {
+                method: case.method,
+                r: body.r(),
+                omega: *omega,
+                err_w: reduced.w.relative_error(&reference.w),
+                err_m: reduced.m.relative_error(&reference.m),
+                err_q: reduced.q.relative_error(&reference.q),
+            };
+            cases.push(CaseResult {
+                case: case.clone(),
+                row,
+                reduced,
+            });
+        }
+    }
+    Ok(StudyResult {
+        title: file.title.clone(),
+        references,
+        cases,
+    })
+}
+
+/// The reduction of one case, with the file's interface, support and (for
+/// elastic-residual) its connections as elastic supports.
+pub fn reduce_case(
+    file: &ModelFile,
+    matrices: &SystemMatrices,
+    case: &CaseSpec,
+) -> Result<crate::reduce::ReducedBody, StudyError> {
+    let mut spec = Reduction::new(case.method, case.modes, file.interface.clone());
+    spec.support = file.support.clone();
+    spec.springs = file.ground_springs();
+    reduce(&file.model, matrices, &spec).map_err(|source| StudyError::Reduce {
+        method: case.method,
+        modes: case.modes,
+        source,
+    })
+}
+
+/// The MBS of `file` around `body`, solved at `omega`, recovered (eq. 25).
+pub fn respond(
+    file: &ModelFile,
+    body: FlexibleBody<'_>,
+    omega: f64,
+) -> Result<BeamResponse, MbsError> {
+    let system = System {
+        flexible: vec![body],
+        rigid: file.rigid_bodies.clone(),
+        connections: file.connections.clone(),
+        track: file.track,
+    };
+    let response = harmonic_response(&system, omega)?;
+    let (u_re, u_im) = &response.flexible[0];
+    let model = &file.model;
+    let w_re = nodal_values(model, u_re, DofKind::Uz);
+    let w_im = nodal_values(model, u_im, DofKind::Uz);
+    let w = Field {
+        x: w_re.iter().map(|(c, _)| c[0]).collect(),
+        re: w_re.iter().map(|(_, v)| *v).collect(),
+        im: w_im.iter().map(|(_, v)| *v).collect(),
+    };
+    let f_re = harmonic_section_forces(model, u_re, omega).map_err(|e| MbsError::Invalid {
+        connection: "-".into(),
+        what: e.to_string(),
+    })?;
+    let f_im = harmonic_section_forces(model, u_im, omega).map_err(|e| MbsError::Invalid {
+        connection: "-".into(),
+        what: e.to_string(),
+    })?;
+    let field = |component: usize| {
+        let mut f = Field::default();
+        for (a, b) in f_re.iter().zip(&f_im) {
+            f.x.extend([a.start[0], a.end[0]]);
+            f.re.extend([a.forces.start[component], a.forces.end[component]]);
+            f.im.extend([b.forces.start[component], b.forces.end[component]]);
+        }
+        f
+    };
+    Ok(BeamResponse {
+        w,
+        m: field(4),
+        q: field(2),
+        forces: response.forces,
+    })
+}
