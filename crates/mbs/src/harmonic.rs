@@ -54,8 +54,8 @@ struct EndpointMotion {
     prescribed: [(f64, f64); 3],
 }
 
-/// Kinematics of one connection: the row `g` over all coordinates and the
-/// prescribed part of the elongation (complex).
+/// Kinematics of one connection: the elongation `v = g q + v_p`, with the
+/// row `g` over all coordinates and the prescribed part `v_p` (complex).
 struct Kinematics {
     row: Row,
     prescribed: (f64, f64),
@@ -206,10 +206,11 @@ impl System<'_> {
                         d.push(Triplet::new(i, j, c.damping * gi * gj));
                     }
                 }
-                // F = c (g q - v_p) acts on the bodies as -g^T F: the load
-                // of the prescribed motion is g^T c v_p.
-                load_re[i] += c.stiffness * gi * kin.prescribed.0;
-                load_im[i] += c.stiffness * gi * kin.prescribed.1;
+                // v = g q + v_p; the spring's energy c v^2 / 2 gives the
+                // stiffness c g g^T and the load -c g v_p of the prescribed
+                // motion.
+                load_re[i] -= c.stiffness * gi * kin.prescribed.0;
+                load_im[i] -= c.stiffness * gi * kin.prescribed.1;
             }
         }
         Ok(Assembled {
@@ -233,13 +234,13 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
         mut load_re,
         mut load_im,
     } = system.assemble()?;
-    // Damper loads of the prescribed motion: i Omega b g^T v_p.
+    // Damper loads of the prescribed motion: -b g (i Omega v_p).
     let mut kins = Vec::with_capacity(system.connections.len());
     for c in &system.connections {
         let kin = system.kinematics(c, &layout)?;
         for &(i, gi) in &kin.row {
-            load_re[i] -= omega * c.damping * gi * kin.prescribed.1;
-            load_im[i] += omega * c.damping * gi * kin.prescribed.0;
+            load_re[i] += omega * c.damping * gi * kin.prescribed.1;
+            load_im[i] -= omega * c.damping * gi * kin.prescribed.0;
         }
         kins.push(kin);
     }
@@ -287,8 +288,8 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
         .iter()
         .zip(&kins)
         .map(|(c, kin)| {
-            let v_re = kin.row.iter().map(|&(i, g)| g * q_re[i]).sum::<f64>() - kin.prescribed.0;
-            let v_im = kin.row.iter().map(|&(i, g)| g * q_im[i]).sum::<f64>() - kin.prescribed.1;
+            let v_re = kin.row.iter().map(|&(i, g)| g * q_re[i]).sum::<f64>() + kin.prescribed.0;
+            let v_im = kin.row.iter().map(|&(i, g)| g * q_im[i]).sum::<f64>() + kin.prescribed.1;
             // F = (c + i Omega b) v.
             (
                 c.stiffness * v_re - omega * c.damping * v_im,
@@ -313,10 +314,106 @@ fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
     let rhs = Mat::from_fn(n, 1, |i, _| b[i]);
     let x = lu.solve(rhs.as_ref());
     let r = a * &x - &rhs;
+    let finite = (0..n).all(|i| x[(i, 0)].is_finite());
     let a_max = a.as_ref().val().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let scale = a_max * x.norm_max() + rhs.norm_max();
-    if !x.norm_max().is_finite() || r.norm_max() > 1e-8 * scale {
+    if !finite || !(r.norm_max() <= 1e-8 * scale) {
         return Err(MbsError::Singular { omega });
     }
     Ok((0..n).map(|i| x[(i, 0)]).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rigid mass on a spring-damper over the track: the closed form
+    /// `x = (k + i Omega b) z / (k - m Omega^2 + i Omega b)`.
+    #[test]
+    fn rigid_mass_on_a_damped_track_spring_matches_the_closed_form() {
+        let (m, k, b, a, wavelength, x) = (500.0, 2.0e5, 3.0e3, 0.01, 4.0, 0.7);
+        let system = System {
+            flexible: vec![],
+            rigid: vec![RigidBody {
+                name: "mass".into(),
+                mass: m,
+                inertia: [1.0; 6],
+                center: [x, 0.0, 0.5],
+                active: vec![DofKind::Uz],
+            }],
+            connections: vec![Connection {
+                name: "spring".into(),
+                a: Endpoint::Track { x },
+                b: Endpoint::Rigid {
+                    body: 0,
+                    point: [x, 0.0, 0.5],
+                },
+                direction: [0.0, 0.0, 1.0],
+                stiffness: k,
+                damping: b,
+            }],
+            track: Some(Track {
+                amplitude: a,
+                wavelength,
+            }),
+        };
+        for omega in [0.0, 5.0, 20.0, 80.0] {
+            let r = harmonic_response(&system, omega).unwrap();
+            let phase = 2.0 * std::f64::consts::PI * x / wavelength;
+            let z = (a * phase.cos(), a * phase.sin());
+            // (k + i w b) z / (k - m w^2 + i w b), complex arithmetic by hand.
+            let num = (k * z.0 - omega * b * z.1, k * z.1 + omega * b * z.0);
+            let den = (k - m * omega * omega, omega * b);
+            let d2 = den.0 * den.0 + den.1 * den.1;
+            let want = (
+                (num.0 * den.0 + num.1 * den.1) / d2,
+                (num.1 * den.0 - num.0 * den.1) / d2,
+            );
+            let got = (r.rigid[0].0[0], r.rigid[0].1[0]);
+            assert!(
+                (got.0 - want.0).abs() + (got.1 - want.1).abs() < 1e-12 * a,
+                "{omega}: {got:?} vs {want:?}"
+            );
+            // Tension F pulls the mass back: m x'' = -F, so F = m Omega^2 x.
+            let f = r.forces[0];
+            assert!(
+                (f.0 - m * omega * omega * got.0).abs() < 1e-9 * k * a,
+                "{f:?}"
+            );
+            assert!(
+                (f.1 - m * omega * omega * got.1).abs() < 1e-9 * k * a,
+                "{f:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn undamped_resonance_is_reported() {
+        let (m, k) = (2.0, 8.0);
+        let system = System {
+            rigid: vec![RigidBody {
+                name: "mass".into(),
+                mass: m,
+                inertia: [0.0; 6],
+                center: [0.0; 3],
+                active: vec![DofKind::Uz],
+            }],
+            connections: vec![Connection {
+                name: "spring".into(),
+                a: Endpoint::Ground,
+                b: Endpoint::Rigid {
+                    body: 0,
+                    point: [0.0; 3],
+                },
+                direction: [0.0, 0.0, 1.0],
+                stiffness: k,
+                damping: 0.0,
+            }],
+            ..Default::default()
+        };
+        assert!(matches!(
+            harmonic_response(&system, 2.0),
+            Err(MbsError::Singular { .. })
+        ));
+    }
 }

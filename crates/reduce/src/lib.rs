@@ -17,3 +17,6 @@ pub mod modes;
 pub use body::{ModeKind, ReducedBody};
 pub use error::ReduceError;
 pub use method::{reduce, GroundSpring, Method, Reduction};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,397 @@
+//! Properties every mode type and method must have (report section 5),
+//! on small free models built in code.
+
+use crate::method::{free_body_rigid_modes, interface_equations};
+use crate::modes::*;
+use crate::{reduce, Method, ReduceError, Reduction};
+use faer::Mat;
+use flexbody_fem::element::{Beam, PlanarBeam};
+use flexbody_fem::{
+    assemble, BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node,
+    SectionShape, SystemMatrices,
+};
+use flexbody_linalg::sparse::{max_abs, project};
+use std::collections::BTreeMap;
+
+fn props() -> BeamProperties {
+    let s = SectionShape::Box {
+        width: 0.24,
+        height: 0.20,
+        wall: 0.012,
+    };
+    BeamProperties::new(
+        Material::new(2.1e11, 0.3, 6800.0).unwrap(),
+        s.constants().unwrap(),
+        BeamTheory::EulerBernoulli,
+    )
+}
+
+/// Free planar beam along x, `n` elements over 2.5 m, nodes 1..=n+1.
+fn planar_beam(n: usize) -> Model {
+    let nodes = (0..=n)
+        .map(|i| Node {
+            id: i as u64 + 1,
+            coords: [2.5 * i as f64 / n as f64, 0.0, 0.0],
+        })
+        .collect();
+    let elements = (0..n)
+        .map(|i| {
+            Element::PlanarBeam(PlanarBeam {
+                id: i + 1,
+                nodes: [i as u64 + 1, i as u64 + 2],
+                properties: props(),
+            })
+        })
+        .collect();
+    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+}
+
+/// Free 3D L-frame: 4 beams along x, then 4 along y; nodes 1..=9.
+fn l_frame() -> Model {
+    let mut nodes = Vec::new();
+    for i in 0..=4 {
+        nodes.push(Node {
+            id: i + 1,
+            coords: [0.5 * i as f64, 0.0, 0.2],
+        });
+    }
+    for i in 1..=4 {
+        nodes.push(Node {
+            id: 5 + i,
+            coords: [2.0, 0.4 * i as f64, 0.2],
+        });
+    }
+    let elements = (0..8)
+        .map(|i| {
+            Element::Beam(Beam {
+                id: i + 1,
+                nodes: [i as u64 + 1, i as u64 + 2],
+                properties: BeamProperties::new(
+                    props().material,
+                    props().section,
+                    BeamTheory::Timoshenko,
+                ),
+                orientation: [0.0, 0.0, 1.0],
+            })
+        })
+        .collect();
+    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+}
+
+fn uz(nodes: &[u64]) -> Vec<Dof> {
+    nodes.iter().map(|&n| Dof::new(n, DofKind::Uz)).collect()
+}
+
+fn setup(model: &Model) -> (SystemMatrices, RigidModes) {
+    let s = assemble(model).unwrap();
+    let rigid = free_body_rigid_modes(model, &s).unwrap();
+    (s, rigid)
+}
+
+fn identity_error(a: &Mat<f64>) -> f64 {
+    let n = a.nrows();
+    max_abs((a - Mat::<f64>::identity(n, n)).as_ref())
+}
+
+#[test]
+fn rigid_body_modes_carry_no_strain_and_are_m_orthonormal() {
+    for (model, count) in [(planar_beam(20), 2), (l_frame(), 6)] {
+        let (s, rigid) = setup(&model);
+        assert_eq!(rigid.count(), count);
+        assert!(crate::modes::rigid::strain_energy_ratio(&s.stiffness, &rigid) < 1e-13);
+        let g = project(&s.mass, rigid.vectors.as_ref());
+        assert!(
+            identity_error(&g) < 1e-13,
+            "T_st^T M T_st = I: {}",
+            identity_error(&g)
+        );
+    }
+    let (_, rigid) = setup(&planar_beam(20));
+    assert_eq!(rigid.motions, vec![DofKind::Uz, DofKind::Ry]);
+}
+
+#[test]
+fn inertia_relief_loads_are_self_equilibrated_and_modes_solve_the_free_body() {
+    for (model, interface) in [
+        (planar_beam(20), uz(&[1, 21, 7, 15])),
+        (
+            l_frame(),
+            vec![
+                Dof::new(1, DofKind::Uz),
+                Dof::new(9, DofKind::Ux),
+                Dof::new(5, DofKind::Ry),
+            ],
+        ),
+    ] {
+        let (s, rigid) = setup(&model);
+        let map = model.dof_map();
+        let h = interface_equations(&model, &interface).unwrap();
+        let loads = unit_loads(map.len(), &h);
+        let p_g = self_equilibrated_loads(&s.mass, &rigid, &loads);
+        // Report: 0 = T_st^T G^T P_1.
+        let work = rigid.vectors.transpose() * &p_g;
+        assert!(
+            max_abs(work.as_ref()) < 1e-14 * max_abs(rigid.vectors.as_ref()),
+            "{work:?}"
+        );
+        let first = map.dof(h[0]).node;
+        let preferred: Vec<usize> = map.node_dofs(first).into_iter().map(|(_, i)| i).collect();
+        let support = statically_determinate_support(&rigid, &preferred);
+        assert_eq!(support, preferred, "all DOFs of the first interface node");
+        let t =
+            inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &support, map)
+                .unwrap();
+        // Self-equilibrated loads need no support reactions: K t = P_g everywhere.
+        let residual = &s.stiffness * &t - &p_g;
+        assert!(
+            max_abs(residual.as_ref()) < 1e-8 * max_abs(p_g.as_ref()),
+            "{}",
+            max_abs(residual.as_ref())
+        );
+        // And the rigid part is removed: T_st^T M t = 0.
+        let c = rigid.vectors.transpose() * (&s.mass * &t);
+        assert!(max_abs(c.as_ref()) < 1e-12 * max_abs(t.as_ref()) * rigid.vectors.norm_max());
+    }
+}
+
+#[test]
+fn any_statically_determinate_support_gives_the_same_modes() {
+    let model = planar_beam(20);
+    let (s, rigid) = setup(&model);
+    let map = model.dof_map();
+    let h = interface_equations(&model, &uz(&[1, 21, 7, 15])).unwrap();
+    let loads = unit_loads(map.len(), &h);
+    let at_node_1 = interface_equations(
+        &model,
+        &[Dof::new(1, DofKind::Uz), Dof::new(1, DofKind::Ry)],
+    )
+    .unwrap();
+    let two_points = interface_equations(&model, &uz(&[4, 18])).unwrap();
+    let a = inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &at_node_1, map)
+        .unwrap();
+    let b =
+        inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &two_points, map)
+            .unwrap();
+    assert!(max_abs((&a - &b).as_ref()) < 1e-9 * max_abs(a.as_ref()));
+}
+
+#[test]
+fn supports_that_constrain_or_do_not_fix_the_body_are_refused() {
+    let model = planar_beam(20);
+    let (s, rigid) = setup(&model);
+    let map = model.dof_map();
+    let loads = unit_loads(map.len(), &[0]);
+    let three = interface_equations(&model, &uz(&[1, 11, 21])).unwrap();
+    let err = inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &three, map)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ReduceError::SupportCount {
+                given: 3,
+                needed: 2,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let rotations = interface_equations(
+        &model,
+        &[Dof::new(1, DofKind::Ry), Dof::new(21, DofKind::Ry)],
+    )
+    .unwrap();
+    let err =
+        inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &rotations, map)
+            .unwrap_err();
+    assert!(
+        matches!(err, ReduceError::SupportNotDeterminate(_)),
+        "{err}"
+    );
+}
+
+#[test]
+fn residual_modes_are_m_and_k_orthogonal_to_the_kept_eigenmodes() {
+    let model = planar_beam(20);
+    let (s, rigid) = setup(&model);
+    let map = model.dof_map();
+    let h = interface_equations(&model, &uz(&[1, 21, 7, 15])).unwrap();
+    let loads = unit_loads(map.len(), &h);
+    let support = statically_determinate_support(&rigid, &[0, 1]);
+    let t = inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &support, map)
+        .unwrap();
+    let phi = eigenmodes(&s.stiffness, &s.mass, 5)
+        .unwrap()
+        .slice(2, 5)
+        .vectors;
+    let res = residual_modes(&t, &phi, &s.mass);
+    let m_c = phi.transpose() * (&s.mass * &res);
+    let k_c = phi.transpose() * (&s.stiffness * &res);
+    let k_scale = max_abs((phi.transpose() * (&s.stiffness * &t)).as_ref());
+    assert!(max_abs(m_c.as_ref()) < 1e-12 * max_abs((phi.transpose() * (&s.mass * &t)).as_ref()));
+    assert!(
+        max_abs(k_c.as_ref()) < 1e-9 * k_scale,
+        "{} vs {k_scale}",
+        max_abs(k_c.as_ref())
+    );
+}
+
+#[test]
+fn constraint_modes_are_unit_displacements_with_interior_equilibrium() {
+    let model = planar_beam(20);
+    let (s, rigid) = setup(&model);
+    let map = model.dof_map();
+    let h = interface_equations(&model, &uz(&[1, 21, 7, 15])).unwrap();
+    let t = constraint_modes(&s.stiffness, &h, map, &rigid).unwrap();
+    let kt = &s.stiffness * &t;
+    let k_scale = flexbody_linalg::sparse::max_abs_diagonal(&s.stiffness);
+    for j in 0..h.len() {
+        for (k, &hk) in h.iter().enumerate() {
+            assert_eq!(t[(hk, j)], if j == k { 1.0 } else { 0.0 });
+        }
+        for i in (0..map.len()).filter(|i| !h.contains(i)) {
+            assert!(
+                kt[(i, j)].abs() < 1e-14 * k_scale,
+                "interior force {} at {}",
+                kt[(i, j)],
+                map.dof(i)
+            );
+        }
+    }
+}
+
+#[test]
+fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
+    let model = planar_beam(20);
+    let s = assemble(&model).unwrap();
+    let err = reduce(
+        &model,
+        &s,
+        &Reduction::new(Method::CraigBampton, 1, uz(&[11])),
+    )
+    .unwrap_err();
+    match &err {
+        ReduceError::Mechanism { interface, free } => {
+            assert_eq!(interface, &uz(&[11]));
+            // Pitch about node 11 moves the beam ends most.
+            assert!(
+                free[..2].contains(&Dof::new(1, DofKind::Uz))
+                    && free[..2].contains(&Dof::new(21, DofKind::Uz)),
+                "{free:?}"
+            );
+        }
+        other => panic!("expected a mechanism, got {other}"),
+    }
+    assert!(err.to_string().contains("node 1 uz"), "{err}");
+}
+
+#[test]
+fn two_unconnected_beams_are_a_mechanism_of_the_free_body() {
+    let one = planar_beam(4);
+    let mut nodes = one.nodes().to_vec();
+    let mut elements = one.elements().to_vec();
+    for n in one.nodes() {
+        nodes.push(Node {
+            id: n.id + 100,
+            coords: [n.coords[0] + 3.0, 0.0, 0.0],
+        });
+    }
+    for (i, e) in one.elements().iter().enumerate() {
+        if let Element::PlanarBeam(b) = e {
+            elements.push(Element::PlanarBeam(PlanarBeam {
+                id: 100 + i,
+                nodes: [b.nodes[0] + 100, b.nodes[1] + 100],
+                properties: b.properties.clone(),
+            }));
+        }
+    }
+    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
+    let s = assemble(&model).unwrap();
+    let err = reduce(&model, &s, &Reduction::new(Method::Free, 6, vec![])).unwrap_err();
+    assert!(
+        matches!(err, ReduceError::FreeMechanism { rigid: 2, .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn reduced_matrices_are_symmetric_and_orthonormalisation_keeps_the_spectrum() {
+    let model = l_frame();
+    let s = assemble(&model).unwrap();
+    let interface = vec![
+        Dof::new(1, DofKind::Uz),
+        Dof::new(1, DofKind::Ux),
+        Dof::new(9, DofKind::Uz),
+        Dof::new(5, DofKind::Uy),
+    ];
+    for method in Method::ALL {
+        let modes = match method {
+            Method::Free => 10,
+            Method::Guyan => 0,
+            _ => 3,
+        };
+        let mut spec = Reduction::new(method, modes, interface.clone());
+        spec.springs = interface
+            .iter()
+            .map(|d| crate::GroundSpring {
+                node: d.node,
+                direction: match d.kind {
+                    DofKind::Ux => [1.0, 0.0, 0.0],
+                    DofKind::Uy => [0.0, 1.0, 0.0],
+                    _ => [0.0, 0.0, 1.0],
+                },
+                stiffness: 1e6,
+            })
+            .collect();
+        if method == Method::CraigBampton
+            || method == Method::Guyan
+            || method == Method::ElasticResidual
+        {
+            // Four translations do not hold a 3D frame: a mechanism.
+            assert!(
+                matches!(
+                    reduce(&model, &s, &spec),
+                    Err(ReduceError::Mechanism { .. })
+                ),
+                "{method}"
+            );
+            continue;
+        }
+        let body = reduce(&model, &s, &spec).unwrap();
+        for m in [&body.mass, &body.stiffness] {
+            assert_eq!(max_abs((m - m.transpose()).as_ref()), 0.0);
+        }
+        // The free (not supported) K was reduced.
+        let k = project(&s.stiffness, body.basis.as_ref());
+        assert_eq!(max_abs((&k - &body.stiffness).as_ref()), 0.0);
+        let o = body.orthonormalized().unwrap();
+        assert!(identity_error(&o.mass) < 1e-10);
+        let (f1, f2) = (body.frequencies_hz().unwrap(), o.frequencies_hz().unwrap());
+        for (a, b) in f1.iter().zip(&f2).skip(6) {
+            assert!((a - b).abs() < 1e-9 * a, "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn free_residual_frequencies_bound_the_full_model_from_above() {
+    // Rayleigh-Ritz: every reduced frequency is an upper bound of the full one.
+    let model = planar_beam(20);
+    let s = assemble(&model).unwrap();
+    let body = reduce(
+        &model,
+        &s,
+        &Reduction::new(Method::FreeResidual, 2, uz(&[1, 21, 7, 15])),
+    )
+    .unwrap();
+    let full = eigenmodes(&s.stiffness, &s.mass, body.r())
+        .unwrap()
+        .frequencies_hz();
+    let red = body.frequencies_hz().unwrap();
+    for (f, r) in full.iter().zip(&red).skip(2) {
+        assert!(*r >= f * (1.0 - 1e-12), "{r} < {f}");
+    }
+    // The kept eigenmodes are reproduced exactly.
+    for k in 2..4 {
+        assert!((red[k] - full[k]).abs() < 1e-9 * full[k]);
+    }
+}
