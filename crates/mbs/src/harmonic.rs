@@ -317,7 +317,8 @@ fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
     let finite = (0..n).all(|i| x[(i, 0)].is_finite());
     let a_max = a.as_ref().val().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let scale = a_max * x.norm_max() + rhs.norm_max();
-    if !finite || !(r.norm_max() <= 1e-8 * scale) {
+    let accurate = r.norm_max() <= 1e-8 * scale; // false for NaN too
+    if !finite || !accurate {
         return Err(MbsError::Singular { omega });
     }
     Ok((0..n).map(|i| x[(i, 0)]).collect())

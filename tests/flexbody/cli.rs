@@ -1,0 +1,194 @@
+//! The `flexbody` command: its outputs, and bad input (exit code 2, a
+//! message naming file and line, never a panic).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn flexbody(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flexbody"))
+        .args(args)
+        .output()
+        .expect("run flexbody")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs `args` expecting exit code 2 and a message containing all `needles`.
+fn fails_with(args: &[&str], needles: &[&str]) {
+    let o = flexbody(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: expected '{n}' in: {err}");
+    }
+}
+
+/// The side beam with `from` replaced by `to`, written to `dir/name`.
+fn variant(dir: &Path, name: &str, from: &str, to: &str) -> String {
+    let text = super::side_beam_text();
+    assert!(text.contains(from), "{from}");
+    let path = dir.join(name);
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+#[test]
+fn study_json_lists_every_case_and_plots_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("plots");
+    let model = super::side_beam_path();
+    let o = flexbody(&[
+        "study",
+        model.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let cases = doc["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 14);
+    let fr = cases
+        .iter()
+        .find(|c| c["method"] == "free-residual" && c["omega"] == 122.0)
+        .unwrap();
+    assert_eq!(fr["r"], 7);
+    for key in ["err_w", "err_m", "err_q"] {
+        assert!(fr[key].as_f64().unwrap() < 1e-3);
+    }
+    let svgs: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(svgs.len(), 14);
+    let svg = std::fs::read_to_string(out.join("free-residual_r7_omega122.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("shear force Q(x)"));
+}
+
+#[test]
+fn reduce_writes_the_body_and_compares_frequencies() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("body.json");
+    let model = super::side_beam_path();
+    let o = flexbody(&[
+        "reduce",
+        model.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["r"], 7);
+    let full: Vec<f64> = serde_json::from_value(doc["full_hz"].clone()).unwrap();
+    let reduced: Vec<f64> = serde_json::from_value(doc["reduced_hz"].clone()).unwrap();
+    assert_eq!((full.len(), reduced.len()), (7, 7));
+    // Rigid-body modes at 0 Hz; the kept eigenmode exactly; the rest above
+    // the full model's (Rayleigh-Ritz).
+    assert!(full[1] < 1e-3 && reduced[1] < 1e-3);
+    assert!((reduced[2] - full[2]).abs() < 1e-9 * full[2]);
+    for (r, f) in reduced.iter().zip(&full).skip(3) {
+        assert!(*r >= *f * (1.0 - 1e-12));
+    }
+    let body = flexbody::export::read_json(&out).unwrap();
+    assert_eq!(body.r(), 7);
+}
+
+#[test]
+fn a_connection_to_a_missing_node_names_it_and_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(dir.path(), "m.toml", "node = 21", "node = 99");
+    fails_with(&["study", &m], &["m.toml:53:", "node 99", "does not exist"]);
+}
+
+#[test]
+fn a_negative_density_names_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m.toml",
+        "density = 6800.0",
+        "density = -6800.0",
+    );
+    fails_with(&["study", &m], &["m.toml:9:", "density"]);
+}
+
+#[test]
+fn unknown_methods_are_refused() {
+    let model = super::side_beam_path();
+    fails_with(
+        &[
+            "reduce",
+            model.to_str().unwrap(),
+            "--method",
+            "hurty",
+            "--out",
+            "x.json",
+        ],
+        &["unknown method 'hurty'", "free-residual"],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m2.toml",
+        "{ method = \"free\", modes = 7 }",
+        "{ method = \"hurty\", modes = 7 }",
+    );
+    fails_with(&["study", &m], &["m2.toml:", "unknown variant `hurty`"]);
+}
+
+#[test]
+fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m.toml",
+        "[track]",
+        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
+    );
+    let out = dir.path().join("b.json");
+    fails_with(
+        &[
+            "reduce",
+            &m,
+            "--method",
+            "craig-bampton",
+            "--modes",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["mechanism", "K_NN is singular", "node 1 uz", "node 21 uz"],
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn missing_files_and_unwritable_outputs_are_named() {
+    fails_with(
+        &["study", "no/such/model.toml"],
+        &["no/such/model.toml", "cannot read"],
+    );
+    let model = super::side_beam_path();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("no_dir/body.json");
+    fails_with(
+        &[
+            "reduce",
+            model.to_str().unwrap(),
+            "--method",
+            "guyan",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["no_dir/body.json", "cannot write"],
+    );
+    assert!(!out.exists());
+}
