@@ -230,13 +230,18 @@ fn run_modes(model: &Path, count: usize, json: bool) -> Result<()> {
     let matrices = fem::assemble(&file.model)?;
     let n = file.model.dof_map().len();
     let modes = red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count.min(n))?;
+    // ||K phi - lambda M phi|| / ||K phi||; for rigid-body modes, whose K phi
+    // is itself round-off, relative to ||K|| ||phi|| instead.
+    let k_norm = flexbody::linalg::sparse::max_abs_diagonal(&matrices.stiffness);
     let residuals: Vec<f64> = (0..modes.values.len())
         .map(|j| {
             let phi = modes.vectors.col(j);
             let k_phi = &matrices.stiffness * phi;
             let m_phi = &matrices.mass * phi;
             let r = &k_phi - &m_phi * faer::Scale(modes.values[j]);
+            let floor = k_norm * phi.norm_l2();
             let scale = k_phi.norm_l2().max(m_phi.norm_l2() * modes.values[j].abs());
+            let scale = if scale < 1e-8 * floor { floor } else { scale };
             if scale > 0.0 {
                 r.norm_l2() / scale
             } else {

@@ -192,3 +192,23 @@ fn missing_files_and_unwritable_outputs_are_named() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn modes_json_gives_frequencies_and_residuals() {
+    let model = super::side_beam_path();
+    let o = flexbody(&["modes", model.to_str().unwrap(), "--count", "4", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["dofs"], 42);
+    let f: Vec<f64> = serde_json::from_value(doc["frequencies_hz"].clone()).unwrap();
+    let res: Vec<f64> = serde_json::from_value(doc["residuals"].clone()).unwrap();
+    assert!(res.iter().all(|r| *r < 1e-10), "{res:?}");
+    // Free-free Euler-Bernoulli beam: f1 = (4.7300)^2 / (2 pi L^2) sqrt(E I / (rho A)).
+    let (b, h, t) = (0.24_f64, 0.20_f64, 0.012_f64);
+    let area = b * h - (b - 2.0 * t) * (h - 2.0 * t);
+    let i = (b * h.powi(3) - (b - 2.0 * t) * (h - 2.0 * t).powi(3)) / 12.0;
+    let f1 = 4.730_040_745_f64.powi(2) / (2.0 * std::f64::consts::PI * 2.5 * 2.5)
+        * (2.1e11 * i / (6800.0 * area)).sqrt();
+    assert!(f[0] < 1e-3 && f[1] < 1e-3);
+    assert!((f[2] - f1).abs() < 1e-4 * f1, "{} vs {f1}", f[2]);
+}
