@@ -7,6 +7,7 @@
 //! at the element ends, `max |reduced - reference| / max |reference|`, with
 //! complex amplitudes compared by modulus.
 
+use crate::fem::FemError;
 use crate::fem::{assemble, DofKind, SystemMatrices};
 use crate::io::{CaseSpec, ModelFile, StudySpec};
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
@@ -114,6 +115,15 @@ pub enum StudyError {
     },
 }
 
+/// Errors of one harmonic solution and its recovery.
+#[derive(Debug, thiserror::Error)]
+pub enum ResponseError {
+    #[error(transparent)]
+    Mbs(#[from] MbsError),
+    #[error("recovery: {0}")]
+    Recovery(#[from] FemError),
+}
+
 /// Runs the study of `file` (its `[study]` table).
 pub fn run_study(file: &ModelFile) -> Result<StudyResult, StudyError> {
     let spec = file
@@ -194,7 +204,7 @@ pub fn respond(
     file: &ModelFile,
     body: FlexibleBody<'_>,
     omega: f64,
-) -> Result<BeamResponse, MbsError> {
+) -> Result<BeamResponse, ResponseError> {
     let system = System {
         flexible: vec![body],
         rigid: file.rigid_bodies.clone(),
@@ -211,14 +221,8 @@ pub fn respond(
         re: w_re.iter().map(|(_, v)| *v).collect(),
         im: w_im.iter().map(|(_, v)| *v).collect(),
     };
-    let f_re = harmonic_section_forces(model, u_re, omega).map_err(|e| MbsError::Invalid {
-        connection: "-".into(),
-        what: e.to_string(),
-    })?;
-    let f_im = harmonic_section_forces(model, u_im, omega).map_err(|e| MbsError::Invalid {
-        connection: "-".into(),
-        what: e.to_string(),
-    })?;
+    let f_re = harmonic_section_forces(model, u_re, omega)?;
+    let f_im = harmonic_section_forces(model, u_im, omega)?;
     let field = |component: usize| {
         let mut f = Field::default();
         for (a, b) in f_re.iter().zip(&f_im) {

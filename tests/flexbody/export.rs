@@ -1,24 +1,11 @@
 //! Reduced-body files: a JSON round trip, and clear errors for broken files.
 
 use flexbody::export::{read_json, write_json, ExportError};
-use flexbody::fem::assemble;
-use flexbody::io::{read_model_file, CaseSpec};
 use flexbody::reduce::Method;
-use flexbody::study::reduce_case;
 
 #[test]
 fn json_round_trip_keeps_every_number() {
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::FreeResidual,
-            modes: 1,
-        },
-    )
-    .unwrap();
+    let (_, _, body) = super::side_beam_body(Method::FreeResidual, 1);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.json");
     write_json(&body, &path).unwrap();
@@ -36,17 +23,7 @@ fn json_round_trip_keeps_every_number() {
 
 #[test]
 fn broken_files_are_reported_with_what_is_wrong() {
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::Guyan,
-            modes: 0,
-        },
-    )
-    .unwrap();
+    let (_, _, body) = super::side_beam_body(Method::Guyan, 0);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.json");
     write_json(&body, &path).unwrap();
@@ -68,17 +45,7 @@ fn broken_files_are_reported_with_what_is_wrong() {
 
 #[test]
 fn a_failed_write_leaves_no_file() {
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::Guyan,
-            modes: 0,
-        },
-    )
-    .unwrap();
+    let (_, _, body) = super::side_beam_body(Method::Guyan, 0);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("missing_dir/body.json");
     let e = write_json(&body, &path).unwrap_err();

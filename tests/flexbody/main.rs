@@ -5,6 +5,10 @@ mod cli;
 mod export;
 mod study;
 
+use flexbody::fem::{assemble, SystemMatrices};
+use flexbody::io::{read_model_file, CaseSpec, ModelFile};
+use flexbody::reduce::{Method, ReducedBody};
+use flexbody::study::reduce_case;
 use std::path::PathBuf;
 
 /// The bundled example of the report's side beam.
@@ -14,4 +18,12 @@ pub fn side_beam_path() -> PathBuf {
 
 pub fn side_beam_text() -> String {
     std::fs::read_to_string(side_beam_path()).expect("examples/side_beam.toml")
+}
+
+/// The side beam, its matrices, and its reduction by `method` with `modes`.
+pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, SystemMatrices, ReducedBody) {
+    let file = read_model_file(&side_beam_path()).unwrap();
+    let matrices = assemble(&file.model).unwrap();
+    let body = reduce_case(&file, &matrices, &CaseSpec { method, modes }).unwrap();
+    (file, matrices, body)
 }

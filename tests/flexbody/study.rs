@@ -8,7 +8,7 @@ use flexbody::linalg::sparse::{max_abs, project};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::{harmonic_section_forces, ModalRecovery};
 use flexbody::reduce::{reduce, Method, Reduction};
-use flexbody::study::{reduce_case, respond, run_cases, run_study, CaseRow};
+use flexbody::study::{respond, run_cases, run_study, CaseRow};
 
 const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
 const HEAVE: f64 = 122.0;
@@ -99,17 +99,7 @@ fn complete_bases_reproduce_the_full_model() {
 
 #[test]
 fn orthonormalised_body_responds_like_the_original() {
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::FreeResidual,
-            modes: 1,
-        },
-    )
-    .unwrap();
+    let (file, _, body) = super::side_beam_body(Method::FreeResidual, 1);
     let ortho = body.orthonormalized().unwrap();
     let n = ortho.r();
     assert!(max_abs((&ortho.mass - faer::Mat::<f64>::identity(n, n)).as_ref()) < 1e-12);
@@ -125,17 +115,7 @@ fn elastic_residual_leaves_the_springs_to_the_mbs() {
     // The basis holds the supported body's heave mode, so the reduced body
     // plus the springs added once (eq. 26-29) has the supported body's heave
     // frequency exactly; springs counted twice would raise it.
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::ElasticResidual,
-            modes: 1,
-        },
-    )
-    .unwrap();
+    let (file, matrices, body) = super::side_beam_body(Method::ElasticResidual, 1);
     assert_eq!(
         max_abs((&project(&matrices.stiffness, body.basis.as_ref()) - &body.stiffness).as_ref()),
         0.0,
@@ -162,17 +142,7 @@ fn elastic_residual_leaves_the_springs_to_the_mbs() {
 #[test]
 fn section_forces_from_ritz_coordinates_equal_those_from_displacements() {
     // Eq. 25 with modal section-force matrices S_K = K_e T_e, S_M = M_e T_e.
-    let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(
-        &file,
-        &matrices,
-        &CaseSpec {
-            method: Method::FreeResidual,
-            modes: 1,
-        },
-    )
-    .unwrap();
+    let (file, _, body) = super::side_beam_body(Method::FreeResidual, 1);
     let recovery = ModalRecovery::new(&file.model, &body).unwrap();
     let system = flexbody::mbs::System {
         flexible: vec![FlexibleBody::Reduced(&body)],

@@ -197,8 +197,8 @@ impl Model {
         })
     }
 
-    /// Total mass and centre of mass from the translational rigid-body
-    /// motion (m, kg).
+    /// Mean of the node coordinates (m): the reference point of the
+    /// rigid-body modes.
     pub fn centroid(&self) -> [f64; 3] {
         let n = self.nodes.len().max(1) as f64;
         let mut c = [0.0; 3];

@@ -557,10 +557,10 @@ impl Context<'_> {
                 message: e.to_string(),
             }
         })?;
-        // Assemble once here so element errors (zero length, orientation)
-        // surface with their line before any computation starts.
+        // Element geometry errors (zero length, orientation) with their line,
+        // before any computation starts.
         for e in model.elements() {
-            e.matrices(&model).map_err(|x| InputError::Invalid {
+            e.validate(&model).map_err(|x| InputError::Invalid {
                 path: self.path.to_path_buf(),
                 line: element_line.get(&e.id()).copied(),
                 message: x.to_string(),

@@ -28,6 +28,14 @@ impl EigenPairs {
     pub fn frequencies_hz(&self) -> Vec<f64> {
         self.values.iter().map(|l| frequency_hz(*l)).collect()
     }
+
+    /// The pairs `from..to`.
+    pub fn slice(&self, from: usize, to: usize) -> EigenPairs {
+        EigenPairs {
+            values: self.values[from..to].to_vec(),
+            vectors: self.vectors.subcols(from, to - from).to_owned(),
+        }
+    }
 }
 
 /// `sqrt(lambda) / (2 pi)`, with round-off negatives of rigid-body modes

@@ -184,6 +184,11 @@ impl System<'_> {
     /// The equations of motion of the system (eq. 11): body matrices on the
     /// diagonal, spring stiffness `c_n g_n g_n^T` (eq. 10-11) coupling them.
     pub fn assemble(&self) -> Result<Assembled, MbsError> {
+        self.assemble_with_kinematics().map(|(a, _)| a)
+    }
+
+    /// [`System::assemble`], also returning each connection's kinematics.
+    fn assemble_with_kinematics(&self) -> Result<(Assembled, Vec<Kinematics>), MbsError> {
         let layout = self.layout();
         let n = layout.len;
         let (mut m, mut d, mut k) = (Vec::new(), Vec::new(), Vec::new());
@@ -197,6 +202,7 @@ impl System<'_> {
             m.extend(b.mass_triplets(at));
         }
         let (mut load_re, mut load_im) = (vec![0.0; n], vec![0.0; n]);
+        let mut kins = Vec::with_capacity(self.connections.len());
         for c in &self.connections {
             let kin = self.kinematics(c, &layout)?;
             for &(i, gi) in &kin.row {
@@ -212,14 +218,16 @@ impl System<'_> {
                 load_re[i] -= c.stiffness * gi * kin.prescribed.0;
                 load_im[i] -= c.stiffness * gi * kin.prescribed.1;
             }
+            kins.push(kin);
         }
-        Ok(Assembled {
+        let assembled = Assembled {
             mass: sparse::from_triplets(n, n, &m)?,
             damping: sparse::from_triplets(n, n, &d)?,
             stiffness: sparse::from_triplets(n, n, &k)?,
             load_re,
             load_im,
-        })
+        };
+        Ok((assembled, kins))
     }
 }
 
@@ -227,22 +235,22 @@ impl System<'_> {
 pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse, MbsError> {
     let layout = system.layout();
     let n = layout.len;
-    let Assembled {
-        mass,
-        damping,
-        stiffness,
-        mut load_re,
-        mut load_im,
-    } = system.assemble()?;
+    let (
+        Assembled {
+            mass,
+            damping,
+            stiffness,
+            mut load_re,
+            mut load_im,
+        },
+        kins,
+    ) = system.assemble_with_kinematics()?;
     // Damper loads of the prescribed motion: -b g (i Omega v_p).
-    let mut kins = Vec::with_capacity(system.connections.len());
-    for c in &system.connections {
-        let kin = system.kinematics(c, &layout)?;
+    for (c, kin) in system.connections.iter().zip(&kins) {
         for &(i, gi) in &kin.row {
             load_re[i] += omega * c.damping * gi * kin.prescribed.1;
             load_im[i] -= omega * c.damping * gi * kin.prescribed.0;
         }
-        kins.push(kin);
     }
     let a = sparse::add_scaled(&stiffness, -omega * omega, &mass)?;
     let damped = damping.compute_nnz() > 0 && omega != 0.0;

@@ -135,6 +135,10 @@ impl Beam {
         (k, m)
     }
 
+    pub(crate) fn validate(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), FemError> {
+        self.rotation(a, b).map(|_| ())
+    }
+
     pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
         let (l, r) = self.rotation(a, b)?;
         let t = Self::transformation(&r);

@@ -95,6 +95,18 @@ impl Element {
         }
     }
 
+    /// Checks the element's geometry (length, orientation) without building
+    /// its matrices.
+    pub fn validate(&self, model: &Model) -> Result<(), FemError> {
+        match self {
+            Element::PlanarBeam(e) => {
+                e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
+            }
+            Element::Beam(e) => e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1])),
+            Element::PointMass(_) | Element::Spring(_) => Ok(()),
+        }
+    }
+
     /// Stiffness and mass in global DOFs. Point masses return only the DOFs
     /// the model has at their node.
     pub fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {

@@ -60,6 +60,10 @@ impl PlanarBeam {
         (k, m)
     }
 
+    pub(crate) fn validate(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), FemError> {
+        self.geometry(a, b).map(|_| ())
+    }
+
     pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
         let (l, s) = self.geometry(a, b)?;
         let (stiffness, mass) = self.local(l, s);

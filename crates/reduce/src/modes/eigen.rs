@@ -15,31 +15,9 @@ use flexbody_linalg::{sparse, SparseMat};
 /// Largest model the dense eigen path accepts.
 pub const DENSE_LIMIT: usize = 6000;
 
-/// The lowest eigenpairs, M-orthonormal, ascending.
-#[derive(Clone, Debug)]
-pub struct EigenModes {
-    /// Eigenvalues lambda = omega^2 (rad^2/s^2).
-    pub values: Vec<f64>,
-    /// Eigenvectors (m x count), `Phi^T M Phi = I`.
-    pub vectors: Mat<f64>,
-}
-
-impl EigenModes {
-    pub fn frequencies_hz(&self) -> Vec<f64> {
-        self.values
-            .iter()
-            .map(|l| flexbody_linalg::eigen::frequency_hz(*l))
-            .collect()
-    }
-
-    /// Columns `from..to`.
-    pub fn slice(&self, from: usize, to: usize) -> EigenModes {
-        EigenModes {
-            values: self.values[from..to].to_vec(),
-            vectors: self.vectors.subcols(from, to - from).to_owned(),
-        }
-    }
-}
+/// The lowest eigenpairs, M-orthonormal (`Phi^T M Phi = I`), ascending;
+/// eigenvalues lambda = omega^2 (rad^2/s^2).
+pub use flexbody_linalg::eigen::EigenPairs as EigenModes;
 
 /// The lowest `count` eigenpairs of `K phi = lambda M phi`.
 pub fn eigenmodes(
