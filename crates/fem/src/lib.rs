@@ -51,6 +51,8 @@ pub enum FemError {
         node: NodeId,
         dof: DofKind,
     },
+    #[error("element {element}: {reason}")]
+    InvalidElement { element: usize, reason: String },
     #[error("the model has no DOFs")]
     Empty,
     #[error(transparent)]

@@ -10,6 +10,8 @@ pub struct Material {
     pub youngs_modulus: f64,
     /// Shear modulus G (Pa).
     pub shear_modulus: f64,
+    /// Poisson's ratio nu.
+    pub poisson_ratio: f64,
     /// Density (kg/m^3).
     pub density: f64,
 }
@@ -29,6 +31,7 @@ impl Material {
         Ok(Self {
             youngs_modulus,
             shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
+            poisson_ratio,
             density,
         })
     }

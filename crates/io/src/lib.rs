@@ -6,6 +6,8 @@
 //! cases. Units are SI throughout (m, kg, s, N, Pa, rad, rad/s). Every error
 //! names the file and, where it comes from a line of the file, the line.
 
+pub mod deck;
+pub mod matrices;
 pub mod model_file;
 
 pub use model_file::{parse_model_file, read_model_file, CaseSpec, ModelFile, StudySpec};

@@ -5,12 +5,14 @@ pub mod beam;
 mod bending;
 pub mod planar_beam;
 pub mod point_mass;
+pub mod solid;
 pub mod spring;
 
 pub use beam::Beam;
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
-pub use spring::Spring;
+pub use solid::{von_mises, Solid, SolidKind};
+pub use spring::{AxialSpring, Spring};
 
 use crate::dof::Dof;
 use crate::model::{Model, NodeId};
@@ -29,6 +31,10 @@ pub enum Element {
     PointMass(PointMass),
     /// Scalar spring to ground or between two DOFs.
     Spring(Spring),
+    /// Spring along the line between two nodes (CalculiX SPRINGA).
+    AxialSpring(AxialSpring),
+    /// Solid element (C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6).
+    Solid(Solid),
 }
 
 /// Element matrices in the element's global DOFs.
@@ -60,6 +66,8 @@ impl Element {
             Element::Beam(e) => e.id,
             Element::PointMass(e) => e.id,
             Element::Spring(e) => e.id,
+            Element::AxialSpring(e) => e.id,
+            Element::Solid(e) => e.id,
         }
     }
 
@@ -76,6 +84,8 @@ impl Element {
                 }
                 n
             }
+            Element::AxialSpring(e) => e.nodes.to_vec(),
+            Element::Solid(e) => e.nodes.clone(),
         }
     }
 
@@ -92,6 +102,8 @@ impl Element {
             Element::Beam(e) => e.dofs(),
             Element::PointMass(e) => e.dofs(),
             Element::Spring(e) => e.dofs(),
+            Element::AxialSpring(e) => e.dofs(),
+            Element::Solid(e) => e.dofs(),
         }
     }
 
@@ -103,6 +115,10 @@ impl Element {
                 e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
             }
             Element::Beam(e) => e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1])),
+            Element::AxialSpring(e) => {
+                e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
+            }
+            Element::Solid(e) => e.validate(&element_coords(model, &e.nodes)),
             Element::PointMass(_) | Element::Spring(_) => Ok(()),
         }
     }
@@ -117,6 +133,10 @@ impl Element {
             Element::Beam(e) => e.matrices(model.coords(e.nodes[0]), model.coords(e.nodes[1])),
             Element::PointMass(e) => Ok(e.matrices(model)),
             Element::Spring(e) => Ok(e.matrices()),
+            Element::AxialSpring(e) => {
+                e.matrices(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
+            }
+            Element::Solid(e) => e.matrices(&element_coords(model, &e.nodes)),
         }
     }
 
@@ -140,6 +160,11 @@ impl Element {
             _ => Ok(None),
         }
     }
+}
+
+/// Coordinates of the given nodes (ids from a checked model).
+pub(crate) fn element_coords(model: &Model, nodes: &[NodeId]) -> Vec<[f64; 3]> {
+    nodes.iter().map(|&n| model.coords(n)).collect()
 }
 
 /// `y = A x` for a small dense matrix and a slice.

@@ -1,7 +1,9 @@
 //! Scalar spring between two DOFs, or from one DOF to ground.
 
-use super::ElementMatrices;
-use crate::dof::Dof;
+use super::{axis, ElementMatrices};
+use crate::dof::{Dof, DofKind};
+use crate::model::NodeId;
+use crate::FemError;
 use faer::Mat;
 
 /// Spring of stiffness `stiffness` (N/m, or N m/rad on rotations).
@@ -31,5 +33,47 @@ impl Spring {
             stiffness,
             mass: Mat::zeros(n, n),
         }
+    }
+}
+
+/// Spring along the line between two nodes: `k d d^T` on their translations
+/// (CalculiX SPRINGA, linear).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxialSpring {
+    pub id: usize,
+    pub nodes: [NodeId; 2],
+    /// Stiffness (N/m).
+    pub stiffness: f64,
+}
+
+impl AxialSpring {
+    pub(crate) fn dofs(&self) -> Vec<Dof> {
+        self.nodes
+            .iter()
+            .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n, k)))
+            .collect()
+    }
+
+    pub(crate) fn validate(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), FemError> {
+        let (l, _) = axis(a, b);
+        if l.is_nan() || l <= 0.0 {
+            return Err(FemError::ZeroLength { element: self.id });
+        }
+        Ok(())
+    }
+
+    pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
+        self.validate(a, b)?;
+        let (_, d) = axis(a, b);
+        let k = self.stiffness;
+        let stiffness = Mat::from_fn(6, 6, |i, j| {
+            let sign = if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
+            sign * k * d[i % 3] * d[j % 3]
+        });
+        Ok(ElementMatrices {
+            dofs: self.dofs(),
+            stiffness,
+            mass: Mat::zeros(6, 6),
+        })
     }
 }

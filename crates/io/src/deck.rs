@@ -1,0 +1,1 @@
+//! Abaqus/CalculiX input decks (`.inp`): being written.

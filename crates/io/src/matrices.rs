@@ -1,0 +1,1 @@
+//! FE matrices from other programs (Matrix Market, CalculiX `.sti`/`.mas`/`.dof`): being written.

@@ -1,0 +1,2 @@
+//! Cross-check against CalculiX: assembled K, M and frequencies of small
+//! decks against ccx fixtures (being written).
