@@ -17,9 +17,9 @@
 //! ```no_run
 //! use flexbody::{fem, io, reduce};
 //! let file = io::read_model_file("examples/side_beam.toml".as_ref())?;
-//! let matrices = fem::assemble(&file.model)?;
+//! let sub = fem::Substructure::from_model(&file.model)?;
 //! let spec = reduce::Reduction::new(reduce::Method::FreeResidual, 1, file.interface.clone());
-//! let body = reduce::reduce(&file.model, &matrices, &spec)?;
+//! let body = reduce::reduce(&sub, &spec)?;
 //! assert_eq!(body.r(), 7); // 2 rigid + 4 residual inertia-relief + 1 eigenmode
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

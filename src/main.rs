@@ -195,12 +195,13 @@ fn run_reduce(
     json: bool,
 ) -> Result<()> {
     let file = io::read_model_file(model)?;
-    let matrices = fem::assemble(&file.model)?;
+    let sub = fem::Substructure::from_model(&file.model)?;
+    let matrices = &sub.matrices;
     let mut spec = Reduction::new(method, modes, file.interface.clone());
     spec.support = file.support.clone();
     spec.springs = file.ground_springs();
     spec.orthonormalize = orthonormalize;
-    let body = reduce(&file.model, &matrices, &spec)?;
+    let body = reduce(&sub, &spec)?;
     let reduced_hz = body.frequencies_hz()?;
     let count = body.r().min(file.model.dof_map().len());
     let full_hz =

@@ -8,7 +8,7 @@
 //! complex amplitudes compared by modulus.
 
 use crate::fem::FemError;
-use crate::fem::{assemble, DofKind, SystemMatrices};
+use crate::fem::{DofKind, Substructure};
 use crate::io::{CaseSpec, ModelFile, StudySpec};
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
 use crate::recover::{harmonic_section_forces, nodal_values};
@@ -135,10 +135,11 @@ pub fn run_study(file: &ModelFile) -> Result<StudyResult, StudyError> {
 
 /// Runs the given cases of a study on `file`.
 pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, StudyError> {
-    let matrices = assemble(&file.model).map_err(|e| StudyError::Reference(e.to_string()))?;
+    let sub =
+        Substructure::from_model(&file.model).map_err(|e| StudyError::Reference(e.to_string()))?;
     let full = FlexibleBody::Full {
-        dof_map: file.model.dof_map(),
-        matrices: &matrices,
+        dof_map: &sub.dof_map,
+        matrices: &sub.matrices,
     };
     let references = spec
         .omegas
@@ -151,7 +152,7 @@ pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, Stud
         .collect::<Result<Vec<_>, _>>()?;
     let mut cases = Vec::new();
     for case in &spec.cases {
-        let body = reduce_case(file, &matrices, case)?;
+        let body = reduce_case(file, &sub, case)?;
         for (omega, reference) in &references {
             let reduced = respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| {
                 StudyError::Case {
@@ -186,13 +187,13 @@ pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, Stud
 /// elastic-residual) its connections as elastic supports.
 pub fn reduce_case(
     file: &ModelFile,
-    matrices: &SystemMatrices,
+    sub: &Substructure,
     case: &CaseSpec,
 ) -> Result<crate::reduce::ReducedBody, StudyError> {
     let mut spec = Reduction::new(case.method, case.modes, file.interface.clone());
     spec.support = file.support.clone();
     spec.springs = file.ground_springs();
-    reduce(&file.model, matrices, &spec).map_err(|source| StudyError::Reduce {
+    reduce(sub, &spec).map_err(|source| StudyError::Reduce {
         method: case.method,
         modes: case.modes,
         source,

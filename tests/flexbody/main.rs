@@ -6,7 +6,7 @@ mod cli;
 mod export;
 mod study;
 
-use flexbody::fem::{assemble, SystemMatrices};
+use flexbody::fem::Substructure;
 use flexbody::io::{read_model_file, CaseSpec, ModelFile};
 use flexbody::reduce::{Method, ReducedBody};
 use flexbody::study::reduce_case;
@@ -22,9 +22,9 @@ pub fn side_beam_text() -> String {
 }
 
 /// The side beam, its matrices, and its reduction by `method` with `modes`.
-pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, SystemMatrices, ReducedBody) {
+pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure, ReducedBody) {
     let file = read_model_file(&side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
-    let body = reduce_case(&file, &matrices, &CaseSpec { method, modes }).unwrap();
-    (file, matrices, body)
+    let sub = Substructure::from_model(&file.model).unwrap();
+    let body = reduce_case(&file, &sub, &CaseSpec { method, modes }).unwrap();
+    (file, sub, body)
 }

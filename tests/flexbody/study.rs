@@ -1,7 +1,7 @@
 //! The report's comparison on its side beam (section 6), and the coupling
 //! and recovery behind it.
 
-use flexbody::fem::assemble;
+use flexbody::fem::Substructure;
 use flexbody::io::{parse_model_file, read_model_file, CaseSpec, StudySpec};
 use flexbody::linalg::eigen::generalized_symmetric;
 use flexbody::linalg::sparse::{max_abs, project};
@@ -115,14 +115,14 @@ fn elastic_residual_leaves_the_springs_to_the_mbs() {
     // The basis holds the supported body's heave mode, so the reduced body
     // plus the springs added once (eq. 26-29) has the supported body's heave
     // frequency exactly; springs counted twice would raise it.
-    let (file, matrices, body) = super::side_beam_body(Method::ElasticResidual, 1);
+    let (file, sub, body) = super::side_beam_body(Method::ElasticResidual, 1);
+    let matrices = &sub.matrices;
     assert_eq!(
         max_abs((&project(&matrices.stiffness, body.basis.as_ref()) - &body.stiffness).as_ref()),
         0.0,
         "the free K is reduced"
     );
-    let c =
-        flexbody::reduce::method::support_stiffness(&file.model, &file.ground_springs()).unwrap();
+    let c = flexbody::reduce::method::support_stiffness(&sub, &file.ground_springs()).unwrap();
     let supported = flexbody::linalg::sparse::add_scaled(&matrices.stiffness, 1.0, &c).unwrap();
     let full = generalized_symmetric(
         supported.to_dense().as_ref(),
@@ -172,10 +172,10 @@ fn section_forces_from_ritz_coordinates_equal_those_from_displacements() {
 fn section_forces_balance_the_spring_forces() {
     // Equilibrium at a spring seat: the jump of Q equals the spring force.
     let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
+    let sub = Substructure::from_model(&file.model).unwrap();
     let full = FlexibleBody::Full {
-        dof_map: file.model.dof_map(),
-        matrices: &matrices,
+        dof_map: &sub.dof_map,
+        matrices: &sub.matrices,
     };
     let resp = respond(&file, full, STATIC).unwrap();
     // Node 7 (x = 0.75 m) ends element 6 and starts element 7.
@@ -230,10 +230,9 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
 #[test]
 fn reduce_api_returns_the_reports_seven_coordinates() {
     let file = read_model_file(&super::side_beam_path()).unwrap();
-    let matrices = assemble(&file.model).unwrap();
+    let sub = Substructure::from_model(&file.model).unwrap();
     let body = reduce(
-        &file.model,
-        &matrices,
+        &sub,
         &Reduction::new(Method::FreeResidual, 1, file.interface.clone()),
     )
     .unwrap();

@@ -9,12 +9,14 @@ pub mod dof;
 pub mod element;
 pub mod model;
 pub mod section;
+pub mod substructure;
 
 pub use assembly::{assemble, SystemMatrices};
 pub use dof::{Dof, DofKind, DofMap};
 pub use element::{Element, ElementMatrices, SectionForces};
 pub use model::{Model, Node, NodeId, Rayleigh};
 pub use section::{BeamProperties, BeamTheory, Material, SectionShape};
+pub use substructure::{Substructure, Support};
 
 /// Errors in building or assembling a model. They name the element, node or
 /// DOF that is wrong (user ids, not internal indices).

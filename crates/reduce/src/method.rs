@@ -22,7 +22,7 @@ use crate::modes::{
 use crate::ReduceError;
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, Element, FemError, Model, SystemMatrices};
+use flexbody_fem::{Dof, DofKind, FemError, Substructure, Support};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -109,20 +109,17 @@ impl Reduction {
     }
 }
 
-/// Reduces `model` (with its assembled `matrices`) as `spec` says.
-pub fn reduce(
-    model: &Model,
-    matrices: &SystemMatrices,
-    spec: &Reduction,
-) -> Result<ReducedBody, ReduceError> {
-    let map = model.dof_map();
+/// Reduces the substructure `sub` as `spec` says.
+pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, ReduceError> {
+    let map = &sub.dof_map;
+    let matrices = &sub.matrices;
     let (k, m) = (&matrices.stiffness, &matrices.mass);
-    let boundary = interface_equations(model, &spec.interface)?;
+    let boundary = interface_equations(sub, &spec.interface)?;
     let needs_interface = spec.method != Method::Free;
     if needs_interface && boundary.is_empty() {
         return Err(ReduceError::NoInterface(spec.method.name()));
     }
-    let rigid = free_body_rigid_modes(model, matrices)?;
+    let rigid = free_body_rigid_modes(sub)?;
     let e = spec.modes;
     let (basis, kinds) = match spec.method {
         Method::Free => {
@@ -154,7 +151,7 @@ pub fn reduce(
             (concat(&[&psi, &phi.vectors]), kinds)
         }
         Method::ElasticResidual => {
-            let supported = sparse::add_scaled(k, 1.0, &support_stiffness(model, &spec.springs)?)?;
+            let supported = sparse::add_scaled(k, 1.0, &support_stiffness(sub, &spec.springs)?)?;
             let phi = eigenmodes(&supported, m, e)?;
             // The constraint modes of K and of K + C agree (C acts on H only).
             let psi = constraint_modes(k, &boundary, map, &rigid)?;
@@ -169,7 +166,7 @@ pub fn reduce(
         Method::FreeResidual => {
             let nr = rigid.count();
             let support = match &spec.support {
-                Some(dofs) => interface_equations(model, dofs)?,
+                Some(dofs) => interface_equations(sub, dofs)?,
                 None => {
                     let first = map.dof(boundary[0]).node;
                     let preferred: Vec<usize> =
@@ -188,9 +185,7 @@ pub fn reduce(
             let mut kinds: Vec<ModeKind> = rigid
                 .motions
                 .iter()
-                .map(|k| ModeKind::Rigid {
-                    motion: k.name().to_string(),
-                })
+                .map(|k| ModeKind::Rigid { motion: k.clone() })
                 .collect();
             kinds.extend(
                 boundary
@@ -222,11 +217,11 @@ pub fn reduce(
 }
 
 /// Equation numbers of `dofs`, checked: known, free, not repeated.
-pub fn interface_equations(model: &Model, dofs: &[Dof]) -> Result<Vec<usize>, ReduceError> {
+pub fn interface_equations(sub: &Substructure, dofs: &[Dof]) -> Result<Vec<usize>, ReduceError> {
     let mut eq = Vec::with_capacity(dofs.len());
     for d in dofs {
-        let i = model
-            .dof_map()
+        let i = sub
+            .dof_map
             .index_of(*d)
             .ok_or(ReduceError::UnknownInterfaceDof(*d))?;
         if eq.contains(&i) {
@@ -237,29 +232,54 @@ pub fn interface_equations(model: &Model, dofs: &[Dof]) -> Result<Vec<usize>, Re
     Ok(eq)
 }
 
-/// Rigid-body modes of a free model (about the node centroid); none for a
-/// supported model (fixed DOFs or springs to ground).
-pub fn free_body_rigid_modes(
-    model: &Model,
-    matrices: &SystemMatrices,
-) -> Result<RigidModes, ReduceError> {
-    let supported = model.fixed_dofs().next().is_some()
-        || model
-            .elements()
-            .iter()
-            .any(|e| matches!(e, Element::Spring(s) if s.second.is_none()));
-    if supported {
-        return Ok(RigidModes {
-            vectors: Mat::zeros(model.dof_map().len(), 0),
-            motions: vec![],
-        });
+/// Rigid-body modes of a free substructure: from geometry about the node
+/// centroid (eq. 12-13) when node positions are known, else the
+/// zero-frequency eigenmodes of K and M (matrices only); none for a
+/// supported substructure (fixed DOFs or springs to ground).
+pub fn free_body_rigid_modes(sub: &Substructure) -> Result<RigidModes, ReduceError> {
+    let none = || RigidModes {
+        vectors: Mat::zeros(sub.len(), 0),
+        motions: vec![],
+    };
+    match sub.support {
+        Support::Supported => return Ok(none()),
+        Support::Unknown if !sub.has_geometry() => return null_space_modes(sub),
+        Support::Unknown => {
+            // Geometry known but support unknown: a regular K has no rigid modes.
+            let modes = null_space_modes(sub)?;
+            if modes.count() == 0 {
+                return Ok(modes);
+            }
+        }
+        Support::Free => {}
     }
-    let rigid = rigid_body_modes(model, &matrices.mass, model.centroid());
+    let matrices = &sub.matrices;
+    let rigid = rigid_body_modes(sub, sub.centroid());
     let ratio = modes::rigid::strain_energy_ratio(&matrices.stiffness, &rigid);
     if ratio > 1e-8 {
         return Err(ReduceError::RigidModesStrained(ratio));
     }
     Ok(rigid)
+}
+
+/// Rigid-body modes as the zero-frequency eigenmodes of K and M: those
+/// below a clear gap (a factor 1e6) to the next eigenvalue, at most six.
+fn null_space_modes(sub: &Substructure) -> Result<RigidModes, ReduceError> {
+    let n = sub.len();
+    let pairs = eigenmodes(&sub.matrices.stiffness, &sub.matrices.mass, n.min(7))?;
+    let v = &pairs.values;
+    let count = (0..v.len())
+        .find(|&i| v[i] > 0.0 && v[i] > 1e6 * v[..i].iter().fold(0.0_f64, |a, b| a.max(b.abs())))
+        .unwrap_or(v.len());
+    if count == 7 {
+        return Err(ReduceError::FreeMechanism { zero: 7, rigid: 6 });
+    }
+    Ok(RigidModes {
+        vectors: pairs.vectors.subcols(0, count).to_owned(),
+        motions: (1..=count)
+            .map(|k| format!("zero-energy mode {k}"))
+            .collect(),
+    })
 }
 
 /// The first `nr` eigenvalues are the rigid-body modes (round-off zeros);
@@ -286,10 +306,10 @@ fn check_gap(values: &[f64], nr: usize) -> Result<(), ReduceError> {
 
 /// Sparse `sum_n c_n d_n d_n^T` on the translations of each spring's node.
 pub fn support_stiffness(
-    model: &Model,
+    sub: &Substructure,
     springs: &[GroundSpring],
 ) -> Result<SparseMat, ReduceError> {
-    let map = model.dof_map();
+    let map = &sub.dof_map;
     let mut t = Vec::new();
     for s in springs {
         flexbody_fem::require_positive(
@@ -307,7 +327,7 @@ pub fn support_stiffness(
         let mut eq = [None; 3];
         for a in 0..3 {
             if d[a] != 0.0 {
-                eq[a] = Some(model.equation(Dof::new(s.node, kinds[a]), "support spring")?);
+                eq[a] = Some(sub.equation(Dof::new(s.node, kinds[a]), "support spring")?);
             }
         }
         for a in 0..3 {

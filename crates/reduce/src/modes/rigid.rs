@@ -9,7 +9,7 @@
 //! bending beam.
 
 use faer::Mat;
-use flexbody_fem::{DofKind, Model};
+use flexbody_fem::{DofKind, Substructure};
 use flexbody_linalg::orthonormal::m_orthonormalize;
 use flexbody_linalg::SparseMat;
 
@@ -18,8 +18,9 @@ use flexbody_linalg::SparseMat;
 pub struct RigidModes {
     /// `T_st` (m x n_rigid), `T_st^T M T_st = I`.
     pub vectors: Mat<f64>,
-    /// `ux`..`rz`: the reference-point motion each column started from.
-    pub motions: Vec<DofKind>,
+    /// What each column is: `ux`..`rz`, the reference-point motion it
+    /// started from, or `zero-energy mode k` when found from K's null space.
+    pub motions: Vec<String>,
 }
 
 impl RigidModes {
@@ -28,12 +29,15 @@ impl RigidModes {
     }
 }
 
-/// The `m x 6` matrix of eq. 13 about `reference` (no normalisation).
-pub fn rigid_body_transformation(model: &Model, reference: [f64; 3]) -> Mat<f64> {
-    let map = model.dof_map();
+/// The `m x 6` matrix of eq. 13 about `reference` (no normalisation); rows
+/// of nodes without coordinates are zero (check [`Substructure::has_geometry`]).
+pub fn rigid_body_transformation(sub: &Substructure, reference: [f64; 3]) -> Mat<f64> {
+    let map = &sub.dof_map;
     Mat::from_fn(map.len(), 6, |i, col| {
         let dof = map.dof(i);
-        let x = model.coords(dof.node);
+        let Some(x) = sub.node_coordinates(dof.node) else {
+            return 0.0;
+        };
         let r = [
             x[0] - reference[0],
             x[1] - reference[1],
@@ -54,13 +58,17 @@ pub fn rigid_body_transformation(model: &Model, reference: [f64; 3]) -> Mat<f64>
     })
 }
 
-/// Rigid-body modes of a free model about `reference` (eq. 12-13),
+/// Rigid-body modes of a free substructure about `reference` (eq. 12-13),
 /// M-orthonormalised; motions the DOFs cannot carry are dropped.
-pub fn rigid_body_modes(model: &Model, mass: &SparseMat, reference: [f64; 3]) -> RigidModes {
-    let t = rigid_body_transformation(model, reference);
-    let o = m_orthonormalize(t.as_ref(), mass, 1e-8);
+pub fn rigid_body_modes(sub: &Substructure, reference: [f64; 3]) -> RigidModes {
+    let t = rigid_body_transformation(sub, reference);
+    let o = m_orthonormalize(t.as_ref(), &sub.matrices.mass, 1e-8);
     RigidModes {
-        motions: o.kept.iter().map(|&j| DofKind::ALL[j]).collect(),
+        motions: o
+            .kept
+            .iter()
+            .map(|&j| DofKind::ALL[j].name().to_string())
+            .collect(),
         vectors: o.vectors,
     }
 }
