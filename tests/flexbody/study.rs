@@ -286,3 +286,48 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
         assert!(c.err_w.max(c.err_m).max(c.err_q) < tol, "{c:?}");
     }
 }
+
+#[test]
+fn interface_forces_from_matrices_equal_the_connection_forces() {
+    // What the matrices alone give (no mesh needed): (K u + M a)_H at the
+    // spring seats equals minus the spring tension there.
+    use flexbody::fem::{Dof, DofKind};
+    use flexbody::recover::interface_forces;
+    let (file, sub, body) = super::side_beam_body(Method::FreeResidual, 1);
+    let seats: Vec<Dof> = [1, 21, 7, 15]
+        .iter()
+        .map(|&n| Dof::new(n, DofKind::Uz))
+        .collect();
+    for omega in [STATIC, HEAVE] {
+        for flexible in [
+            FlexibleBody::Full {
+                dof_map: &sub.dof_map,
+                matrices: &sub.matrices,
+            },
+            FlexibleBody::Reduced(&body),
+        ] {
+            let system = flexbody::mbs::System {
+                flexible: vec![flexible],
+                rigid: file.rigid_bodies.clone(),
+                connections: file.connections.clone(),
+                track: file.track,
+            };
+            let r = flexbody::mbs::harmonic_response(&system, omega).unwrap();
+            let u = &r.flexible[0].0;
+            let a: Vec<f64> = u.iter().map(|v| -omega * omega * v).collect();
+            let f = interface_forces(&sub, u, &a, &seats).unwrap();
+            let tol = match flexible {
+                FlexibleBody::Full { .. } => 1e-9,
+                FlexibleBody::Reduced(_) => 1e-3,
+            };
+            let scale = r.forces.iter().map(|f| f.0.abs()).fold(0.0, f64::max);
+            for (k, fk) in f.iter().enumerate() {
+                assert!(
+                    (fk + r.forces[k].0).abs() < tol * scale,
+                    "{omega}: seat {k}: {fk} vs {}",
+                    r.forces[k].0
+                );
+            }
+        }
+    }
+}

@@ -4,8 +4,12 @@
 //! full model (the reference, "Vergleichslösung"), so both are recovered the
 //! same way. For a harmonic state at Omega, `q'' = -Omega^2 q`.
 
+pub mod stress;
+
+pub use stress::{nodal_stresses, ModalStress, NodalStresses};
+
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, FemError, Model, SectionForces};
+use flexbody_fem::{Dof, DofKind, FemError, Model, SectionForces, Substructure};
 use flexbody_reduce::ReducedBody;
 use serde::{Deserialize, Serialize};
 
@@ -72,6 +76,38 @@ pub fn nodal_values(model: &Model, u: &[f64], kind: DofKind) -> Vec<([f64; 3], f
                 .index_of(Dof::new(n.id, kind))
                 .map_or(0.0, |i| u[i]);
             (n.coords, v)
+        })
+        .collect()
+}
+
+/// Forces on the body at the given DOFs (N, or N m on rotations): the rows
+/// of the equation of motion, `(K u + M a)_H`, i.e. what the surroundings
+/// (connections, supports) exert there. Needs only the matrices, so it also
+/// serves models read as matrices without a mesh.
+pub fn interface_forces(
+    sub: &Substructure,
+    u: &[f64],
+    a: &[f64],
+    dofs: &[Dof],
+) -> Result<Vec<f64>, FemError> {
+    let k = &sub.matrices.stiffness;
+    let m = &sub.matrices.mass;
+    let (kr, mr) = (k.as_ref(), m.as_ref());
+    dofs.iter()
+        .map(|d| {
+            let i = sub.equation(*d, "interface force")?;
+            // Symmetric matrices: row i = column i.
+            let ku: f64 = kr
+                .row_idx_of_col(i)
+                .zip(kr.val_of_col(i))
+                .map(|(r, v)| v * u[r])
+                .sum();
+            let ma: f64 = mr
+                .row_idx_of_col(i)
+                .zip(mr.val_of_col(i))
+                .map(|(r, v)| v * a[r])
+                .sum();
+            Ok(ku + ma)
         })
         .collect()
 }
