@@ -9,7 +9,7 @@ use flexbody_fem::{
     BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, Rayleigh,
     SectionShape,
 };
-use flexbody_mbs::{Connection, Endpoint, RigidBody, Track};
+use flexbody_mbs::{Connection, Endpoint, ForceLaw, RigidBody, Track};
 use flexbody_reduce::{GroundSpring, Method};
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -55,19 +55,23 @@ pub struct ModelFile {
 impl ModelFile {
     /// The connections as springs to ground at their flexible node: the
     /// elastic support of the `elastic-residual` method (report Bild 8:
-    /// the other ends held).
+    /// the other ends held; nonlinear laws with their stiffness at rest).
     pub fn ground_springs(&self) -> Vec<GroundSpring> {
         self.connections
             .iter()
-            .filter_map(|c| match (&c.a, &c.b) {
-                (_, Endpoint::Flexible { node, .. }) | (Endpoint::Flexible { node, .. }, _) => {
-                    Some(GroundSpring {
-                        node: *node,
-                        direction: c.direction,
-                        stiffness: c.stiffness,
-                    })
-                }
-                _ => None,
+            .filter_map(|c| {
+                let node = match (&c.a, &c.b) {
+                    (_, Endpoint::Flexible { node, .. }) | (Endpoint::Flexible { node, .. }, _) => {
+                        *node
+                    }
+                    _ => return None,
+                };
+                let (stiffness, _) = c.law.linearized();
+                (stiffness > 0.0).then_some(GroundSpring {
+                    node,
+                    direction: c.direction,
+                    stiffness,
+                })
             })
             .collect()
     }
@@ -234,16 +238,88 @@ struct RawRigidBody {
 #[serde(deny_unknown_fields)]
 struct RawConnection {
     name: String,
-    node: u64,
+    /// End b on the flexible body.
+    #[serde(default)]
+    node: Option<u64>,
+    /// End b on a rigid body (instead of `node`).
+    #[serde(default)]
+    body: Option<String>,
+    /// End a: "ground", "track" or a rigid body's name.
     to: String,
     direction: [f64; 3],
-    stiffness: f64,
     #[serde(default)]
-    damping: f64,
+    law: Option<String>,
+    #[serde(default)]
+    stiffness: Option<f64>,
+    #[serde(default)]
+    damping: Option<f64>,
+    #[serde(default)]
+    points: Option<Vec<[f64; 2]>>,
+    #[serde(default)]
+    clearance: Option<f64>,
+    #[serde(default)]
+    force: Option<f64>,
+    #[serde(default)]
+    velocity: Option<f64>,
+    /// Attachment point on a rigid-body end (m).
     #[serde(default)]
     point: Option<[f64; 3]>,
     #[serde(default)]
     track_x: Option<f64>,
+}
+
+impl RawConnection {
+    /// The force law the fields describe, or a message naming what is wrong.
+    fn law(&self) -> Result<ForceLaw, String> {
+        let name = self.law.as_deref().unwrap_or("linear");
+        let given: Vec<(&str, bool)> = vec![
+            ("stiffness", self.stiffness.is_some()),
+            ("damping", self.damping.is_some()),
+            ("points", self.points.is_some()),
+            ("clearance", self.clearance.is_some()),
+            ("force", self.force.is_some()),
+            ("velocity", self.velocity.is_some()),
+        ];
+        let need =
+            |field: &str, v: Option<f64>| v.ok_or_else(|| format!("law {name} needs `{field}`"));
+        let (law, allowed): (ForceLaw, &[&str]) = match name {
+            "linear" => (
+                ForceLaw::linear(self.stiffness.unwrap_or(0.0), self.damping.unwrap_or(0.0)),
+                &["stiffness", "damping"],
+            ),
+            "piecewise-linear" => (
+                ForceLaw::PiecewiseLinear {
+                    points: self.points.clone().ok_or("law piecewise-linear needs `points` = [[v, F], ...]")?,
+                    damping: self.damping.unwrap_or(0.0),
+                },
+                &["points", "damping"],
+            ),
+            "bump-stop" => (
+                ForceLaw::BumpStop {
+                    clearance: need("clearance", self.clearance)?,
+                    stiffness: need("stiffness", self.stiffness)?,
+                },
+                &["clearance", "stiffness"],
+            ),
+            "friction-damper" => (
+                ForceLaw::FrictionDamper {
+                    force: need("force", self.force)?,
+                    velocity: need("velocity", self.velocity)?,
+                },
+                &["force", "velocity"],
+            ),
+            other => {
+                return Err(format!(
+                    "unknown law '{other}'; expected linear, piecewise-linear, bump-stop or friction-damper"
+                ))
+            }
+        };
+        if let Some((field, _)) = given.iter().find(|(f, g)| *g && !allowed.contains(f)) {
+            return Err(format!("`{field}` is not a parameter of law {name}"));
+        }
+        law.validate()?;
+        Ok(law)
+    }
 }
 
 #[derive(Deserialize)]
@@ -606,78 +682,87 @@ impl Context<'_> {
         for c in &raw.connection {
             let r = c.get_ref();
             let offset = c.span().start;
+            let what = format!("connection '{}'", r.name);
             if !names.insert(r.name.clone()) {
-                return Err(self.at(c, format!("connection '{}' is defined twice", r.name)));
+                return Err(self.at(c, format!("{what} is defined twice")));
             }
-            check_node(r.node, offset, &format!("connection '{}'", r.name))?;
-            flexbody_fem::require_non_negative(
-                format!("stiffness of connection '{}'", r.name),
-                r.stiffness,
-            )
-            .and_then(|_| {
-                flexbody_fem::require_non_negative(
-                    format!("damping of connection '{}'", r.name),
-                    r.damping,
-                )
-            })
-            .map_err(|e| self.at(c, e.to_string()))?;
+            let law = r.law().map_err(|e| self.at(c, format!("{what}: {e}")))?;
             if flexbody_reduce::method::unit(r.direction).is_none() {
-                return Err(self.at(
-                    c,
-                    format!(
-                        "connection '{}': direction must be a non-zero vector",
-                        r.name
-                    ),
-                ));
+                return Err(self.at(c, format!("{what}: direction must be a non-zero vector")));
             }
-            let node_pos = model.coords(r.node);
-            let other = match r.to.as_str() {
+            let rigid_end = |name: &str, default_point: [f64; 3]| -> Result<Endpoint, InputError> {
+                match rigid_index.get(name) {
+                    Some(None) => Ok(Endpoint::Ground),
+                    Some(Some(i)) => Ok(Endpoint::Rigid {
+                        body: *i,
+                        point: r.point.unwrap_or(default_point),
+                    }),
+                    None => Err(self.at(c, format!("{what}: '{name}' is not a rigid body"))),
+                }
+            };
+            // End b: a node of the flexible body, or a rigid body.
+            let (b, b_pos) = match (r.node, &r.body) {
+                (Some(node), None) => {
+                    check_node(node, offset, &what)?;
+                    for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+                        .into_iter()
+                        .enumerate()
+                    {
+                        if r.direction[k] != 0.0
+                            && model.dof_map().index_of(Dof::new(node, kind)).is_none()
+                        {
+                            return Err(self.at(
+                                c,
+                                format!("{what}: node {node} has no free DOF {kind} along the spring direction"),
+                            ));
+                        }
+                    }
+                    (Endpoint::Flexible { body: 0, node }, model.coords(node))
+                }
+                (None, Some(body)) => {
+                    let center = raw
+                        .rigid_body
+                        .iter()
+                        .find(|b| &b.get_ref().name == body)
+                        .map_or([0.0; 3], |b| b.get_ref().center);
+                    (rigid_end(body, center)?, r.point.unwrap_or(center))
+                }
+                _ => {
+                    return Err(self.at(
+                        c,
+                        format!(
+                            "{what}: give either `node` (flexible body) or `body` (rigid body)"
+                        ),
+                    ))
+                }
+            };
+            let a = match r.to.as_str() {
                 "ground" => Endpoint::Ground,
                 "track" => {
                     if raw.track.is_none() {
-                        return Err(self.at(c, format!("connection '{}' goes to the track, but there is no [track] table", r.name)));
-                    }
-                    Endpoint::Track {
-                        x: r.track_x.unwrap_or(node_pos[0]),
-                    }
-                }
-                name => match rigid_index.get(name) {
-                    Some(None) => Endpoint::Ground,
-                    Some(Some(i)) => Endpoint::Rigid {
-                        body: *i,
-                        point: r.point.unwrap_or(node_pos),
-                    },
-                    None => {
                         return Err(self.at(
                             c,
-                            format!("connection '{}' goes to '{}', which is neither ground, track nor a rigid body", r.name, name),
-                        ))
+                            format!("{what} goes to the track, but there is no [track] table"),
+                        ));
                     }
-                },
-            };
-            for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
-                .into_iter()
-                .enumerate()
-            {
-                if r.direction[k] != 0.0
-                    && model.dof_map().index_of(Dof::new(r.node, kind)).is_none()
-                {
-                    return Err(self.at(
-                        c,
-                        format!("connection '{}': node {} has no free DOF {} along the spring direction", r.name, r.node, kind),
-                    ));
+                    Endpoint::Track {
+                        x: r.track_x.unwrap_or(b_pos[0]),
+                    }
                 }
-            }
+                name if rigid_index.contains_key(name) => rigid_end(name, b_pos)?,
+                name => return Err(self.at(
+                    c,
+                    format!(
+                        "{what} goes to '{name}', which is neither ground, track nor a rigid body"
+                    ),
+                )),
+            };
             connections.push(Connection {
                 name: r.name.clone(),
-                a: other,
-                b: Endpoint::Flexible {
-                    body: 0,
-                    node: r.node,
-                },
+                a,
+                b,
                 direction: r.direction,
-                stiffness: r.stiffness,
-                damping: r.damping,
+                law,
             });
         }
 
@@ -716,11 +801,12 @@ impl Context<'_> {
         } else {
             for c in &raw.connection {
                 let r = c.get_ref();
+                let Some(node) = r.node else { continue };
                 for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
                     .into_iter()
                     .enumerate()
                 {
-                    let d = Dof::new(r.node, kind);
+                    let d = Dof::new(node, kind);
                     if r.direction[k] != 0.0 && !interface.contains(&d) {
                         interface.push(d);
                     }

@@ -1,6 +1,7 @@
-//! Connection elements (report eq. 8-10): linear springs and viscous
-//! dampers along a direction `d_n` between two points.
+//! Connection elements (report eq. 8-10): springs, dampers and nonlinear
+//! force laws along a direction `d_n` between two points.
 
+use crate::force_law::ForceLaw;
 use serde::{Deserialize, Serialize};
 
 /// One end of a connection.
@@ -17,8 +18,9 @@ pub enum Endpoint {
     Flexible { body: usize, node: u64 },
 }
 
-/// A linear spring-damper: elongation `v = d^T (u_b - u_a)` (eq. 9), force
-/// `F = c v + b v'` (eq. 10 plus viscous damping).
+/// A connection element: elongation `v = d^T (u_b - u_a)` (eq. 9), force
+/// `F(v, v')` from its law (eq. 10 for a linear spring-damper), tension
+/// positive, acting along `d` on b and against it on a.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Connection {
     pub name: String,
@@ -26,10 +28,27 @@ pub struct Connection {
     pub b: Endpoint,
     /// Direction (normalised on use).
     pub direction: [f64; 3],
-    /// Stiffness c (N/m).
-    pub stiffness: f64,
-    /// Viscous damping (N s/m).
-    pub damping: f64,
+    pub law: ForceLaw,
+}
+
+impl Connection {
+    /// A linear spring-damper of stiffness `c` (N/m) and damping `b` (N s/m).
+    pub fn linear(
+        name: &str,
+        a: Endpoint,
+        b: Endpoint,
+        direction: [f64; 3],
+        c: f64,
+        damping: f64,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            a,
+            b,
+            direction,
+            law: ForceLaw::linear(c, damping),
+        }
+    }
 }
 
 /// Harmonic track profile `z(s) = a cos(2 pi s / L_w)` (report 6.1). A

@@ -1,36 +1,14 @@
-//! Assembly of the linear MBS equations (report eq. 11) and their harmonic
-//! steady state: `(K - Omega^2 M + i Omega D) q = f`.
+//! Harmonic steady state of the MBS equations (report eq. 11):
+//! `(K - Omega^2 M + i Omega D) q = f`, with the track's complex amplitudes
+//! (a vehicle over `z(s) = a cos(2 pi s / L_w)`). Nonlinear connections enter
+//! with their tangent at rest ([`crate::ForceLaw::linearized`]).
 
-use crate::body::{FlexibleBody, RigidBody, Row};
-use crate::connection::{Connection, Endpoint, Track};
+use crate::system::{Assembled, System};
 use crate::MbsError;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind};
 use flexbody_linalg::{sparse, SparseMat};
-
-/// A linear multibody system.
-#[derive(Clone, Debug, Default)]
-pub struct System<'a> {
-    pub flexible: Vec<FlexibleBody<'a>>,
-    pub rigid: Vec<RigidBody>,
-    pub connections: Vec<Connection>,
-    pub track: Option<Track>,
-}
-
-/// The assembled equations of motion (eq. 11): `M q'' + D q' + K q = f`,
-/// with the complex amplitude `f = f_re + i f_im` of the base excitation
-/// through the springs (damper loads depend on Omega and are added by
-/// [`harmonic_response`]).
-#[derive(Clone, Debug)]
-pub struct Assembled {
-    pub mass: SparseMat,
-    pub damping: SparseMat,
-    pub stiffness: SparseMat,
-    pub load_re: Vec<f64>,
-    pub load_im: Vec<f64>,
-}
 
 /// Steady-state response at one frequency; complex amplitudes as (re, im).
 #[derive(Clone, Debug)]
@@ -47,209 +25,33 @@ pub struct HarmonicResponse {
     pub forces: Vec<(f64, f64)>,
 }
 
-/// Translation rows of one endpoint over all coordinates, and its
-/// prescribed displacement (complex, per component).
-struct EndpointMotion {
-    rows: [Row; 3],
-    prescribed: [(f64, f64); 3],
-}
-
-/// Kinematics of one connection: the elongation `v = g q + v_p`, with the
-/// row `g` over all coordinates and the prescribed part `v_p` (complex).
-struct Kinematics {
-    row: Row,
-    prescribed: (f64, f64),
-}
-
-/// Coordinate offsets of the bodies in the system vector.
-struct Layout {
-    flexible: Vec<usize>,
-    rigid: Vec<usize>,
-    len: usize,
-}
-
-impl System<'_> {
-    fn layout(&self) -> Layout {
-        let mut at = 0;
-        let mut next = |len: usize| {
-            let o = at;
-            at += len;
-            o
-        };
-        let flexible = self.flexible.iter().map(|b| next(b.len())).collect();
-        let rigid = self.rigid.iter().map(|b| next(b.len())).collect();
-        Layout {
-            flexible,
-            rigid,
-            len: at,
-        }
-    }
-
-    fn endpoint(
-        &self,
-        c: &Connection,
-        e: &Endpoint,
-        d: [f64; 3],
-        layout: &Layout,
-    ) -> Result<EndpointMotion, MbsError> {
-        let at_rest = |prescribed| EndpointMotion {
-            rows: [vec![], vec![], vec![]],
-            prescribed,
-        };
-        let zero = [(0.0, 0.0); 3];
-        match e {
-            Endpoint::Ground => Ok(at_rest(zero)),
-            Endpoint::Track { x } => {
-                let track = self
-                    .track
-                    .ok_or_else(|| MbsError::NoTrack(c.name.clone()))?;
-                Ok(at_rest([(0.0, 0.0), (0.0, 0.0), track.amplitude_at(*x)]))
-            }
-            Endpoint::Rigid { body, point } => {
-                let b = self.rigid.get(*body).ok_or(MbsError::UnknownRigidBody {
-                    connection: c.name.clone(),
-                    body: *body,
-                })?;
-                let at = layout.rigid[*body];
-                let rows = b
-                    .point_rows(*point)
-                    .map(|r| r.into_iter().map(|(i, v)| (i + at, v)).collect());
-                Ok(EndpointMotion {
-                    rows,
-                    prescribed: zero,
-                })
-            }
-            Endpoint::Flexible { body, node } => {
-                let b = self
-                    .flexible
-                    .get(*body)
-                    .ok_or(MbsError::UnknownFlexibleBody {
-                        connection: c.name.clone(),
-                        body: *body,
-                    })?;
-                let at = layout.flexible[*body];
-                let kinds = [DofKind::Ux, DofKind::Uy, DofKind::Uz];
-                let mut rows: [Row; 3] = [vec![], vec![], vec![]];
-                for (a, kind) in kinds.into_iter().enumerate() {
-                    if d[a] == 0.0 {
-                        continue;
-                    }
-                    let row = b
-                        .dof_row(Dof::new(*node, kind))
-                        .ok_or(MbsError::MissingDof {
-                            connection: c.name.clone(),
-                            node: *node,
-                            dof: kind.name(),
-                        })?;
-                    rows[a] = row.into_iter().map(|(i, v)| (i + at, v)).collect();
-                }
-                Ok(EndpointMotion {
-                    rows,
-                    prescribed: zero,
-                })
-            }
-        }
-    }
-
-    /// `v_n = d^T (u_b - u_a)` (eq. 9) as a row over the coordinates plus
-    /// the prescribed part.
-    fn kinematics(&self, c: &Connection, layout: &Layout) -> Result<Kinematics, MbsError> {
-        let d = flexbody_reduce::method::unit(c.direction).ok_or_else(|| MbsError::Invalid {
-            connection: c.name.clone(),
-            what: "direction is zero".into(),
-        })?;
-        let valid = |v: f64| v.is_finite() && v >= 0.0;
-        if !(valid(c.stiffness) && valid(c.damping)) {
-            return Err(MbsError::Invalid {
-                connection: c.name.clone(),
-                what: format!(
-                    "stiffness {} and damping {} must be finite and not negative",
-                    c.stiffness, c.damping
-                ),
-            });
-        }
-        let ea = self.endpoint(c, &c.a, d, layout)?;
-        let eb = self.endpoint(c, &c.b, d, layout)?;
-        let mut row: Row = Vec::new();
-        let mut prescribed = (0.0, 0.0);
-        for (a, da) in d.iter().enumerate() {
-            row.extend(eb.rows[a].iter().map(|&(i, v)| (i, da * v)));
-            row.extend(ea.rows[a].iter().map(|&(i, v)| (i, -da * v)));
-            prescribed.0 += da * (eb.prescribed[a].0 - ea.prescribed[a].0);
-            prescribed.1 += da * (eb.prescribed[a].1 - ea.prescribed[a].1);
-        }
-        Ok(Kinematics { row, prescribed })
-    }
-
-    /// The equations of motion of the system (eq. 11): body matrices on the
-    /// diagonal, spring stiffness `c_n g_n g_n^T` (eq. 10-11) coupling them.
-    pub fn assemble(&self) -> Result<Assembled, MbsError> {
-        self.assemble_with_kinematics().map(|(a, _)| a)
-    }
-
-    /// [`System::assemble`], also returning each connection's kinematics.
-    fn assemble_with_kinematics(&self) -> Result<(Assembled, Vec<Kinematics>), MbsError> {
-        let layout = self.layout();
-        let n = layout.len;
-        let (mut m, mut d, mut k) = (Vec::new(), Vec::new(), Vec::new());
-        for (b, &at) in self.flexible.iter().zip(&layout.flexible) {
-            let [tm, td, tk] = b.triplets(at);
-            m.extend(tm);
-            d.extend(td);
-            k.extend(tk);
-        }
-        for (b, &at) in self.rigid.iter().zip(&layout.rigid) {
-            m.extend(b.mass_triplets(at));
-        }
-        let (mut load_re, mut load_im) = (vec![0.0; n], vec![0.0; n]);
-        let mut kins = Vec::with_capacity(self.connections.len());
-        for c in &self.connections {
-            let kin = self.kinematics(c, &layout)?;
-            for &(i, gi) in &kin.row {
-                for &(j, gj) in &kin.row {
-                    k.push(Triplet::new(i, j, c.stiffness * gi * gj));
-                    if c.damping != 0.0 {
-                        d.push(Triplet::new(i, j, c.damping * gi * gj));
-                    }
-                }
-                // v = g q + v_p; the spring's energy c v^2 / 2 gives the
-                // stiffness c g g^T and the load -c g v_p of the prescribed
-                // motion.
-                load_re[i] -= c.stiffness * gi * kin.prescribed.0;
-                load_im[i] -= c.stiffness * gi * kin.prescribed.1;
-            }
-            kins.push(kin);
-        }
-        let assembled = Assembled {
-            mass: sparse::from_triplets(n, n, &m)?,
-            damping: sparse::from_triplets(n, n, &d)?,
-            stiffness: sparse::from_triplets(n, n, &k)?,
-            load_re,
-            load_im,
-        };
-        Ok((assembled, kins))
-    }
-}
-
 /// Harmonic steady state at `omega` (rad/s).
 pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse, MbsError> {
     let layout = system.layout();
     let n = layout.len;
-    let (
-        Assembled {
-            mass,
-            damping,
-            stiffness,
-            mut load_re,
-            mut load_im,
-        },
-        kins,
-    ) = system.assemble_with_kinematics()?;
-    // Damper loads of the prescribed motion: -b g (i Omega v_p).
-    for (c, kin) in system.connections.iter().zip(&kins) {
+    let kins = system.all_kinematics(&layout)?;
+    let Assembled {
+        mass,
+        damping,
+        stiffness,
+    } = system.assemble(&kins, true)?;
+    // Prescribed elongations (complex) and their loads: the spring's energy
+    // gives -c g v_p, the damper -b g (i Omega v_p).
+    let prescribed: Vec<(f64, f64)> = kins
+        .iter()
+        .map(|kin| {
+            kin.tracks.iter().fold((0.0, 0.0), |acc, &(x, coef)| {
+                let z = system.track.map_or((0.0, 0.0), |t| t.amplitude_at(x));
+                (acc.0 + coef * z.0, acc.1 + coef * z.1)
+            })
+        })
+        .collect();
+    let (mut load_re, mut load_im) = (vec![0.0; n], vec![0.0; n]);
+    for ((c, kin), vp) in system.connections.iter().zip(&kins).zip(&prescribed) {
+        let (k, b) = c.law.linearized();
         for &(i, gi) in &kin.row {
-            load_re[i] += omega * c.damping * gi * kin.prescribed.1;
-            load_im[i] -= omega * c.damping * gi * kin.prescribed.0;
+            load_re[i] -= gi * (k * vp.0 - omega * b * vp.1);
+            load_im[i] -= gi * (k * vp.1 + omega * b * vp.0);
         }
     }
     let a = sparse::add_scaled(&stiffness, -omega * omega, &mass)?;
@@ -295,13 +97,15 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
         .connections
         .iter()
         .zip(&kins)
-        .map(|(c, kin)| {
-            let v_re = kin.row.iter().map(|&(i, g)| g * q_re[i]).sum::<f64>() + kin.prescribed.0;
-            let v_im = kin.row.iter().map(|&(i, g)| g * q_im[i]).sum::<f64>() + kin.prescribed.1;
+        .zip(&prescribed)
+        .map(|((c, kin), vp)| {
+            let v_re = kin.apply(&q_re) + vp.0;
+            let v_im = kin.apply(&q_im) + vp.1;
             // F = (c + i Omega b) v.
+            let (stiffness, damping) = c.law.linearized();
             (
-                c.stiffness * v_re - omega * c.damping * v_im,
-                c.stiffness * v_im + omega * c.damping * v_re,
+                stiffness * v_re - omega * damping * v_im,
+                stiffness * v_im + omega * damping * v_re,
             )
         })
         .collect();
@@ -335,6 +139,8 @@ fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Connection, Endpoint, ForceLaw, RigidBody, Track};
+    use flexbody_fem::DofKind;
 
     /// A rigid mass on a spring-damper over the track: the closed form
     /// `x = (k + i Omega b) z / (k - m Omega^2 + i Omega b)`.
@@ -358,8 +164,7 @@ mod tests {
                     point: [x, 0.0, 0.5],
                 },
                 direction: [0.0, 0.0, 1.0],
-                stiffness: k,
-                damping: b,
+                law: ForceLaw::linear(k, b),
             }],
             track: Some(Track {
                 amplitude: a,
@@ -415,8 +220,7 @@ mod tests {
                     point: [0.0; 3],
                 },
                 direction: [0.0, 0.0, 1.0],
-                stiffness: k,
-                damping: 0.0,
+                law: ForceLaw::linear(k, 0.0),
             }],
             ..Default::default()
         };

@@ -12,11 +12,19 @@
 
 pub mod body;
 pub mod connection;
+pub mod force_law;
 pub mod harmonic;
+pub mod system;
+pub mod time;
 
 pub use body::{FlexibleBody, RigidBody};
 pub use connection::{Connection, Endpoint, Track};
-pub use harmonic::{harmonic_response, Assembled, HarmonicResponse, System};
+pub use force_law::ForceLaw;
+pub use harmonic::{harmonic_response, HarmonicResponse};
+pub use system::{Assembled, Layout, System};
+pub use time::{
+    simulate, Excitation, History, Profile, State, TimeForce, TimeResponse, TimeSettings,
+};
 
 /// Errors of MBS assembly and solution, naming the connection and body.
 #[derive(Debug, thiserror::Error)]
@@ -37,6 +45,10 @@ pub enum MbsError {
     NoTrack(String),
     #[error("the dynamic stiffness at Omega = {omega} rad/s is singular: Omega is an undamped eigenfrequency of the system, or a body is not supported")]
     Singular { omega: f64 },
+    #[error("time integration: {0}")]
+    Settings(String),
+    #[error("Newton iterations did not converge at t = {time} s after {iterations} iterations; reduce the time step")]
+    NoConvergence { time: f64, iterations: usize },
     #[error(transparent)]
     Linalg(#[from] flexbody_linalg::LinalgError),
 }
