@@ -25,6 +25,7 @@
 //! ```
 
 pub mod plot;
+pub mod simulate;
 pub mod study;
 
 pub use flexbody_export as export;

@@ -6,7 +6,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use flexbody::reduce::{reduce, Method, Reduction};
-use flexbody::{export, fem, io, plot, reduce as red, study};
+use flexbody::{export, fem, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -58,6 +58,28 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run the vehicle model of a model file in time ([simulation] table).
+    Simulate {
+        /// Model file (TOML) with a [simulation] table.
+        model: PathBuf,
+        /// Output directory: histories.csv and SVG plots.
+        #[arg(long)]
+        out: PathBuf,
+        /// Integrate the full FE model instead of the reduced body (the reference).
+        #[arg(long)]
+        full: bool,
+    },
+    /// Transfer functions from the track to connection and section forces ([frf] table).
+    Frf {
+        /// Model file (TOML) with an [frf] table.
+        model: PathBuf,
+        /// Output directory: frf.csv and SVG plots.
+        #[arg(long)]
+        out: PathBuf,
+        /// Use the full FE model instead of the reduced body.
+        #[arg(long)]
+        full: bool,
+    },
     /// Natural frequencies of a model (free, or with its boundary conditions).
     Modes {
         /// Model file (TOML).
@@ -108,6 +130,8 @@ fn run(cli: Cli) -> Result<()> {
             json,
         } => run_reduce(&model, method, modes, &out, orthonormalize, json),
         Command::Modes { model, count, json } => run_modes(&model, count, json),
+        Command::Simulate { model, out, full } => run_simulate(&model, &out, full),
+        Command::Frf { model, out, full } => run_frf(&model, &out, full),
     }
 }
 
@@ -261,5 +285,207 @@ fn run_modes(model: &Path, count: usize, json: bool) -> Result<()> {
     for (i, (f, r)) in hz.iter().zip(&residuals).enumerate() {
         println!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
     }
+    Ok(())
+}
+
+/// The model file, its substructure and the body a simulation uses.
+fn vehicle(model: &Path) -> Result<(io::ModelFile, fem::Substructure)> {
+    let file = io::read_model_file(model)?;
+    let sub = fem::Substructure::from_model(&file.model)?;
+    Ok((file, sub))
+}
+
+fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
+    let (file, sub) = vehicle(model)?;
+    let spec = file
+        .simulation
+        .clone()
+        .with_context(|| format!("{}: no [simulation] table", model.display()))?;
+    let body = simulate::simulation_body(&file, &sub, &spec)?;
+    let flexible = if full {
+        flexbody::mbs::FlexibleBody::Full {
+            dof_map: &sub.dof_map,
+            matrices: &sub.matrices,
+        }
+    } else {
+        flexbody::mbs::FlexibleBody::Reduced(&body)
+    };
+    let h = simulate::run_simulation(&file, flexible)?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    simulate::write_csv(&out.join("histories.csv"), "time (s)", &h.times, &h.columns)?;
+    let select = |pred: &dyn Fn(&str) -> bool| -> Vec<(&str, &[f64])> {
+        h.columns
+            .iter()
+            .filter(|(n, _)| pred(n))
+            .map(|(n, v)| (n.as_str(), v.as_slice()))
+            .collect()
+    };
+    let connections: Vec<&str> = file.connections.iter().map(|c| c.name.as_str()).collect();
+    let forces = select(&|n: &str| connections.iter().any(|c| n == format!("{c} (N)")));
+    let rigid = select(&|n: &str| {
+        file.rigid_bodies
+            .iter()
+            .any(|b| n.starts_with(&format!("{}.", b.name)))
+    });
+    let moments = select(&|n: &str| n.starts_with("element") && n.contains("end My"));
+    let shears = select(&|n: &str| n.starts_with("element") && n.contains("end Qz"));
+    let label = if full {
+        "full FE model"
+    } else {
+        "reduced body"
+    };
+    plot::plot_panels(
+        &out.join("connections.svg"),
+        &format!("connection forces ({label})"),
+        "t (s)",
+        &h.times,
+        &[plot::Panel {
+            title: "connection forces",
+            y_label: "F (N)",
+            series: forces,
+        }],
+    )
+    .map_err(anyhow::Error::msg)?;
+    let mut panels = vec![];
+    if !rigid.is_empty() {
+        panels.push(plot::Panel {
+            title: "rigid bodies",
+            y_label: "m, rad",
+            series: rigid,
+        });
+    }
+    if !moments.is_empty() {
+        panels.push(plot::Panel {
+            title: "bending moment at element ends (eq. 25)",
+            y_label: "My (N m)",
+            series: moments,
+        });
+        panels.push(plot::Panel {
+            title: "shear force at element ends (eq. 25)",
+            y_label: "Qz (N)",
+            series: shears,
+        });
+    }
+    if !panels.is_empty() {
+        plot::plot_panels(
+            &out.join("histories.svg"),
+            &format!("histories ({label})"),
+            "t (s)",
+            &h.times,
+            &panels,
+        )
+        .map_err(anyhow::Error::msg)?;
+    }
+    println!(
+        "{} steps to t = {} s ({label}); wrote {}",
+        h.times.len() - 1,
+        h.times.last().copied().unwrap_or(0.0),
+        out.join("histories.csv").display()
+    );
+    println!("{:<40} {:>14} {:>14}", "history", "min", "max");
+    for (name, v) in &h.columns {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
+        println!("{name:<40} {lo:>14.5e} {hi:>14.5e}");
+    }
+    Ok(())
+}
+
+fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
+    let (file, sub) = vehicle(model)?;
+    let spec = file.simulation.clone().with_context(|| {
+        format!(
+            "{}: the [simulation] table says how to reduce the body",
+            model.display()
+        )
+    })?;
+    let body = simulate::simulation_body(&file, &sub, &spec)?;
+    let flexible = if full {
+        flexbody::mbs::FlexibleBody::Full {
+            dof_map: &sub.dof_map,
+            matrices: &sub.matrices,
+        }
+    } else {
+        flexbody::mbs::FlexibleBody::Reduced(&body)
+    };
+    let t = simulate::run_frf(&file, flexible)?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    let mut columns = Vec::new();
+    for (name, mag, phase) in &t.outputs {
+        columns.push((format!("|{name}|"), mag.clone()));
+        columns.push((format!("phase {name} (rad)"), phase.clone()));
+    }
+    simulate::write_csv(&out.join("frf.csv"), "f (Hz)", &t.frequencies_hz, &columns)?;
+    let mags: Vec<(&str, &[f64])> = t
+        .outputs
+        .iter()
+        .map(|(n, m, _)| (n.as_str(), m.as_slice()))
+        .collect();
+    let phases: Vec<(&str, &[f64])> = t
+        .outputs
+        .iter()
+        .map(|(n, _, p)| (n.as_str(), p.as_slice()))
+        .collect();
+    let split = file.connections.len();
+    plot::plot_panels(
+        &out.join("frf_connections.svg"),
+        "transfer functions: track amplitude to connection forces",
+        "f (Hz)",
+        &t.frequencies_hz,
+        &[
+            plot::Panel {
+                title: "magnitude",
+                y_label: "N per m",
+                series: mags[..split].to_vec(),
+            },
+            plot::Panel {
+                title: "phase",
+                y_label: "rad",
+                series: phases[..split].to_vec(),
+            },
+        ],
+    )
+    .map_err(anyhow::Error::msg)?;
+    if mags.len() > split {
+        plot::plot_panels(
+            &out.join("frf_sections.svg"),
+            "transfer functions: track amplitude to section forces (eq. 25)",
+            "f (Hz)",
+            &t.frequencies_hz,
+            &[
+                plot::Panel {
+                    title: "magnitude",
+                    y_label: "per m",
+                    series: mags[split..].to_vec(),
+                },
+                plot::Panel {
+                    title: "phase",
+                    y_label: "rad",
+                    series: phases[split..].to_vec(),
+                },
+            ],
+        )
+        .map_err(anyhow::Error::msg)?;
+    }
+    println!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
+    println!(
+        "{:>5} {:>14} {:>14} {:>10}",
+        "mode", "natural (Hz)", "damped (Hz)", "zeta"
+    );
+    for (k, m) in simulate::coupled_modes(&file, flexible)?.iter().enumerate() {
+        println!(
+            "{:>5} {:>14.4} {:>14.4} {:>10.4}",
+            k + 1,
+            m.natural_hz,
+            m.damped_hz,
+            m.damping_ratio
+        );
+    }
+    println!("wrote {}", out.join("frf.csv").display());
     Ok(())
 }

@@ -113,3 +113,100 @@ fn tick_label(v: &f64) -> String {
         format!("{v:.2e}")
     }
 }
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(0, 0, 0),
+];
+
+/// One panel of a multi-panel plot: title, y label, and named series over x.
+pub struct Panel<'a> {
+    pub title: &'a str,
+    pub y_label: &'a str,
+    pub series: Vec<(&'a str, &'a [f64])>,
+}
+
+/// Writes stacked panels of line series over a common `x` to an SVG.
+pub fn plot_panels(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    x: &[f64],
+    panels: &[Panel<'_>],
+) -> Result<(), String> {
+    let tmp = path.with_extension("svg.tmp");
+    let result = (|| -> DrawResult {
+        let height = 60 + 330 * panels.len().max(1) as u32;
+        let root = SVGBackend::new(&tmp, (1000, height)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let root = root.titled(title, ("sans-serif", 22))?;
+        for (area, p) in root
+            .split_evenly((panels.len().max(1), 1))
+            .iter()
+            .zip(panels)
+        {
+            let (x0, x1) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            let (mut y0, mut y1) = p
+                .series
+                .iter()
+                .flat_map(|(_, v)| v.iter())
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            if !(y0.is_finite() && y1.is_finite()) {
+                (y0, y1) = (-1.0, 1.0);
+            }
+            let pad = ((y1 - y0) * 0.08)
+                .max(y1.abs().max(y0.abs()) * 1e-3)
+                .max(1e-12);
+            let mut chart = ChartBuilder::on(area)
+                .caption(p.title, ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(35)
+                .y_label_area_size(80)
+                .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad)..(y1 + pad))?;
+            chart
+                .configure_mesh()
+                .x_desc(x_label)
+                .y_desc(p.y_label)
+                .y_label_formatter(&tick_label)
+                .draw()?;
+            for (k, (name, values)) in p.series.iter().enumerate() {
+                let color = PALETTE[k % PALETTE.len()];
+                chart
+                    .draw_series(LineSeries::new(
+                        x.iter().copied().zip(values.iter().copied()),
+                        color.stroke_width(2),
+                    ))?
+                    .label(*name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()?;
+        }
+        root.present()?;
+        Ok(())
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("{}: cannot draw: {e}", path.display())
+    })?;
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}

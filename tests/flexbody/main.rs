@@ -5,6 +5,7 @@ mod calculix;
 mod cli;
 mod export;
 mod study;
+mod vehicle;
 
 use flexbody::fem::Substructure;
 use flexbody::io::{read_model_file, CaseSpec, ModelFile};

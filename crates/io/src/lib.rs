@@ -10,7 +10,10 @@ pub mod deck;
 pub mod matrices;
 pub mod model_file;
 
-pub use model_file::{parse_model_file, read_model_file, CaseSpec, ModelFile, StudySpec};
+pub use model_file::{
+    parse_model_file, read_model_file, read_profile, BodySource, CaseSpec, FrfSpec, ModelFile,
+    SimulationSpec, StudySpec,
+};
 
 use std::path::PathBuf;
 

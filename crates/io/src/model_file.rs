@@ -9,6 +9,7 @@ use flexbody_fem::{
     BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, Rayleigh,
     SectionShape,
 };
+use flexbody_mbs::time::{Excitation, History, Profile, TimeForce, TimeSettings};
 use flexbody_mbs::{Connection, Endpoint, ForceLaw, RigidBody, Track};
 use flexbody_reduce::{GroundSpring, Method};
 use serde::Deserialize;
@@ -50,6 +51,38 @@ pub struct ModelFile {
     pub connections: Vec<Connection>,
     pub track: Option<Track>,
     pub study: Option<StudySpec>,
+    pub simulation: Option<SimulationSpec>,
+    pub frf: Option<FrfSpec>,
+}
+
+/// Where the flexible body of a simulation comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BodySource {
+    /// Reduce the file's model with this method and number of eigenmodes.
+    Reduce { method: Method, modes: usize },
+    /// A reduced-body file (JSON), resolved relative to the model file.
+    File(PathBuf),
+}
+
+/// The `[simulation]` table: the vehicle run in time (SI units).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationSpec {
+    pub body: BodySource,
+    /// Modal damping ratios of the reduced body (one for all, or per mode).
+    pub modal_damping: Vec<f64>,
+    pub settings: TimeSettings,
+    /// Vehicle speed, track profile, fade-in and time forces.
+    pub excitation: Excitation,
+    /// Beam elements whose section forces are recorded (eq. 25 with q'').
+    pub record: Vec<usize>,
+}
+
+/// The `[frf]` table: transfer functions over a band.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrfSpec {
+    /// Lowest and highest frequency (Hz).
+    pub band_hz: [f64; 2],
+    pub points: usize,
 }
 
 impl ModelFile {
@@ -105,6 +138,73 @@ struct RawFile {
     #[serde(default)]
     connection: Vec<Spanned<RawConnection>>,
     study: Option<RawStudy>,
+    simulation: Option<Spanned<RawSimulation>>,
+    frf: Option<Spanned<FrfRaw>>,
+    #[serde(default)]
+    force: Vec<Spanned<RawForce>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSimulation {
+    #[serde(default)]
+    method: Option<Method>,
+    #[serde(default)]
+    modes: usize,
+    #[serde(default)]
+    body: Option<String>,
+    #[serde(default)]
+    modal_damping: Vec<f64>,
+    speed: f64,
+    duration: f64,
+    step: f64,
+    #[serde(default = "default_alpha")]
+    alpha: f64,
+    #[serde(default)]
+    adaptive: Option<f64>,
+    #[serde(default)]
+    ramp: f64,
+    #[serde(default)]
+    profile: Option<String>,
+    #[serde(default)]
+    record: Vec<usize>,
+}
+
+fn default_alpha() -> f64 {
+    TimeSettings::default().alpha
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FrfRaw {
+    band_hz: [f64; 2],
+    points: usize,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawForce {
+    name: String,
+    #[serde(default)]
+    node: Option<u64>,
+    #[serde(default)]
+    body: Option<String>,
+    #[serde(default)]
+    point: Option<[f64; 3]>,
+    direction: [f64; 3],
+    #[serde(default)]
+    harmonic: Option<RawHarmonic>,
+    #[serde(default)]
+    table: Option<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawHarmonic {
+    amplitude: f64,
+    frequency_hz: f64,
+    #[serde(default)]
+    phase: f64,
 }
 
 #[derive(Deserialize)]
@@ -750,12 +850,14 @@ impl Context<'_> {
                     }
                 }
                 name if rigid_index.contains_key(name) => rigid_end(name, b_pos)?,
-                name => return Err(self.at(
-                    c,
-                    format!(
+                name => {
+                    return Err(self.at(
+                        c,
+                        format!(
                         "{what} goes to '{name}', which is neither ground, track nor a rigid body"
                     ),
-                )),
+                    ))
+                }
             };
             connections.push(Connection {
                 name: r.name.clone(),
@@ -820,6 +922,10 @@ impl Context<'_> {
             }
         }
 
+        let simulation = match &raw.simulation {
+            None => None,
+            Some(sim) => Some(self.simulation(sim, &raw, &model, &rigid_index)?),
+        };
         let study = match raw.study {
             None => None,
             Some(s) => {
@@ -844,6 +950,23 @@ impl Context<'_> {
                 })
             }
         };
+        let frf = match &raw.frf {
+            None => None,
+            Some(f) => {
+                let r = f.get_ref();
+                let [lo, hi] = r.band_hz;
+                if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi > lo && r.points >= 2) {
+                    return Err(self.at(
+                        f,
+                        "frf: band_hz = [low, high] with 0 <= low < high (Hz) and points >= 2",
+                    ));
+                }
+                Some(FrfSpec {
+                    band_hz: r.band_hz,
+                    points: r.points,
+                })
+            }
+        };
         Ok(ModelFile {
             path: self.path.to_path_buf(),
             title: raw.title,
@@ -854,6 +977,143 @@ impl Context<'_> {
             connections,
             track: raw.track,
             study,
+            simulation,
+            frf,
+        })
+    }
+
+    /// The `[simulation]` table and the `[[force]]` entries.
+    fn simulation(
+        &self,
+        sim: &Spanned<RawSimulation>,
+        raw: &RawFile,
+        model: &Model,
+        rigid_index: &HashMap<String, Option<usize>>,
+    ) -> Result<SimulationSpec, InputError> {
+        let r = sim.get_ref();
+        let bad = |message: String| self.at(sim, format!("simulation: {message}"));
+        let body = match (&r.body, r.method) {
+            (Some(file), None) => {
+                BodySource::File(self.path.parent().unwrap_or(Path::new(".")).join(file))
+            }
+            (None, Some(method)) => BodySource::Reduce {
+                method,
+                modes: r.modes,
+            },
+            _ => {
+                return Err(bad(
+                    "give either `method` (and `modes`) or `body` (a reduced-body file)".into(),
+                ))
+            }
+        };
+        let settings = TimeSettings {
+            step: r.step,
+            duration: r.duration,
+            alpha: r.alpha,
+            adaptive: r.adaptive,
+            ..TimeSettings::default()
+        };
+        settings.validate().map_err(bad)?;
+        if !(r.speed.is_finite() && r.speed >= 0.0) {
+            return Err(bad(format!("speed {} must be >= 0 (m/s)", r.speed)));
+        }
+        if !(r.ramp.is_finite() && r.ramp >= 0.0) {
+            return Err(bad(format!("ramp {} must be >= 0 (s)", r.ramp)));
+        }
+        if let Some(z) = r
+            .modal_damping
+            .iter()
+            .find(|z| !(z.is_finite() && **z >= 0.0))
+        {
+            return Err(bad(format!("modal damping ratio {z} must be >= 0")));
+        }
+        let profile = match &r.profile {
+            None => None,
+            Some(file) => Some(read_profile(
+                &self.path.parent().unwrap_or(Path::new(".")).join(file),
+            )?),
+        };
+        if profile.is_none()
+            && raw.track.is_none()
+            && raw.connection.iter().any(|c| c.get_ref().to == "track")
+        {
+            return Err(bad(
+                "the track moves but there is neither a [track] table nor a `profile` file".into(),
+            ));
+        }
+        for e in &r.record {
+            match model.elements().iter().find(|x| x.id() == *e) {
+                Some(Element::PlanarBeam(_)) | Some(Element::Beam(_)) => {}
+                Some(_) => {
+                    return Err(bad(format!(
+                        "record: element {e} is not a beam; section forces are recorded for beams"
+                    )))
+                }
+                None => return Err(bad(format!("record: element {e} does not exist"))),
+            }
+        }
+        let mut forces = Vec::new();
+        for f in &raw.force {
+            let x = f.get_ref();
+            let what = format!("force '{}'", x.name);
+            let at = match (x.node, &x.body) {
+                (Some(node), None) => {
+                    if model.node(node).is_none() {
+                        return Err(self.at(
+                            f,
+                            format!("{what} refers to node {node}, which does not exist"),
+                        ));
+                    }
+                    Endpoint::Flexible { body: 0, node }
+                }
+                (None, Some(name)) => match rigid_index.get(name) {
+                    Some(Some(i)) => Endpoint::Rigid {
+                        body: *i,
+                        point: x.point.unwrap_or([0.0; 3]),
+                    },
+                    _ => {
+                        return Err(
+                            self.at(f, format!("{what}: '{name}' is not a moving rigid body"))
+                        )
+                    }
+                },
+                _ => return Err(self.at(f, format!("{what}: give either `node` or `body`"))),
+            };
+            let history = match (&x.harmonic, &x.table) {
+                (Some(h), None) => History::Harmonic {
+                    amplitude: h.amplitude,
+                    frequency_hz: h.frequency_hz,
+                    phase: h.phase,
+                },
+                (None, Some(rows)) => {
+                    if rows.windows(2).any(|w| !(w[1][0] > w[0][0])) {
+                        return Err(self.at(f, format!("{what}: table times must ascend")));
+                    }
+                    History::Table(rows.clone())
+                }
+                _ => return Err(self.at(f, format!("{what}: give either `harmonic` or `table`"))),
+            };
+            if flexbody_reduce::method::unit(x.direction).is_none() {
+                return Err(self.at(f, format!("{what}: direction must be a non-zero vector")));
+            }
+            forces.push(TimeForce {
+                name: x.name.clone(),
+                at,
+                direction: x.direction,
+                history,
+            });
+        }
+        Ok(SimulationSpec {
+            body,
+            modal_damping: r.modal_damping.clone(),
+            settings,
+            excitation: Excitation {
+                speed: r.speed,
+                profile,
+                ramp: r.ramp,
+                forces,
+            },
+            record: r.record.clone(),
         })
     }
 
@@ -876,4 +1136,64 @@ impl Context<'_> {
         elements.push(e);
         Ok(())
     }
+}
+
+/// Reads a track profile: one `s, z` row per line (m), `#` comments and a
+/// header line allowed, s strictly ascending.
+pub fn read_profile(path: &Path) -> Result<Profile, InputError> {
+    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |line: usize, message: String| InputError::Invalid {
+        path: path.to_path_buf(),
+        line: Some(line),
+        message,
+    };
+    let (mut s, mut z) = (Vec::new(), Vec::new());
+    for (k, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = line
+            .split([',', ';', ' ', '\t'])
+            .filter(|f| !f.is_empty())
+            .collect();
+        let parsed: Option<Vec<f64>> = fields.iter().map(|f| f.parse::<f64>().ok()).collect();
+        match parsed {
+            None if s.is_empty()
+                && z.is_empty()
+                && fields.iter().all(|f| f.parse::<f64>().is_err()) =>
+            {
+                continue
+            } // header
+            Some(v) if v.len() == 2 && v.iter().all(|x| x.is_finite()) => {
+                if let Some(last) = s.last() {
+                    if v[0] <= *last {
+                        return Err(bad(
+                            k + 1,
+                            format!("s = {} does not ascend (previous {last})", v[0]),
+                        ));
+                    }
+                }
+                s.push(v[0]);
+                z.push(v[1]);
+            }
+            _ => {
+                return Err(bad(
+                    k + 1,
+                    format!("expected two numbers `s, z` (m), got `{raw}`"),
+                ))
+            }
+        }
+    }
+    if s.len() < 2 {
+        return Err(InputError::Invalid {
+            path: path.to_path_buf(),
+            line: None,
+            message: "a track profile needs at least two rows".into(),
+        });
+    }
+    Ok(Profile::Table { s, z })
 }

@@ -14,6 +14,7 @@ pub mod body;
 pub mod connection;
 pub mod force_law;
 pub mod harmonic;
+pub mod modal;
 pub mod system;
 pub mod time;
 
@@ -21,6 +22,7 @@ pub use body::{FlexibleBody, RigidBody};
 pub use connection::{Connection, Endpoint, Track};
 pub use force_law::ForceLaw;
 pub use harmonic::{harmonic_response, HarmonicResponse};
+pub use modal::{damped_modes, DampedMode};
 pub use system::{Assembled, Layout, System};
 pub use time::{
     simulate, Excitation, History, Profile, State, TimeForce, TimeResponse, TimeSettings,

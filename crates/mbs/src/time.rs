@@ -20,6 +20,10 @@ use flexbody_fem::{Dof, DofKind};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 
+/// Smallest step, as a fraction of the requested one, that cutbacks and
+/// step control may reach.
+const MIN_STEP_FRACTION: f64 = 1.0 / 1024.0;
+
 /// A track profile z(s) (m) along the track coordinate s (m).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Profile {
@@ -118,6 +122,10 @@ pub struct Excitation {
     /// The track under the wheels (`None`: the system's harmonic track as a
     /// cosine profile, if any).
     pub profile: Option<Profile>,
+    /// Fade-in time (s): the track amplitude rises as
+    /// `(1 - cos(pi t / ramp)) / 2` so that the start does not ring the
+    /// high modes; 0 for none.
+    pub ramp: f64,
     pub forces: Vec<TimeForce>,
 }
 
@@ -212,6 +220,7 @@ struct Equations<'s> {
     loads: Vec<(Row, History)>,
     speed: f64,
     profile: Option<Profile>,
+    ramp: f64,
     nonlinear: Vec<usize>,
     n: usize,
 }
@@ -222,9 +231,18 @@ impl Equations<'_> {
         let Some(p) = &self.profile else {
             return (0.0, 0.0);
         };
+        let (r, dr) = if self.ramp > 0.0 && t < self.ramp {
+            let w = std::f64::consts::PI / self.ramp;
+            (0.5 * (1.0 - (w * t).cos()), 0.5 * w * (w * t).sin())
+        } else {
+            (1.0, 0.0)
+        };
         self.kins[k].tracks.iter().fold((0.0, 0.0), |acc, &(x, c)| {
             let (z, dz) = p.at(self.speed * t + x);
-            (acc.0 + c * z, acc.1 + c * self.speed * dz)
+            (
+                acc.0 + c * r * z,
+                acc.1 + c * (r * self.speed * dz + dr * z),
+            )
         })
     }
 
@@ -379,6 +397,7 @@ pub fn simulate(
         loads,
         speed: excitation.speed,
         profile,
+        ramp: excitation.ramp.max(0.0),
         nonlinear,
         n,
     };
@@ -445,10 +464,7 @@ pub fn simulate(
                 break;
             }
             if iterations == settings.max_iterations {
-                return Err(MbsError::NoConvergence {
-                    time: t1,
-                    iterations,
-                });
+                break;
             }
             let neg: Vec<f64> = res.iter().map(|v| -v).collect();
             let da = if eq.nonlinear.is_empty() {
@@ -473,6 +489,24 @@ pub fn simulate(
                 a[i] += da[i];
             }
             iterations += 1;
+            // A linear step is solved exactly by one Newton step; otherwise
+            // stop when the increment stagnates at round-off (the residual's
+            // own scale is the net of large, cancelling terms).
+            if eq.nonlinear.is_empty() || norm(&da) <= 1e-12 * norm(&a).max(f64::MIN_POSITIVE) {
+                break;
+            }
+        }
+        if iterations == settings.max_iterations {
+            // Newton cycles at a kink of a force law (a bump stop closing):
+            // cut the step back and retry.
+            if h > settings.step * MIN_STEP_FRACTION {
+                h *= 0.5;
+                continue;
+            }
+            return Err(MbsError::NoConvergence {
+                time: t1,
+                iterations,
+            });
         }
         let x1: Vec<f64> = (0..n).map(|i| x_pred[i] + beta * h * h * a[i]).collect();
         let v1: Vec<f64> = (0..n).map(|i| v_pred[i] + gamma * h * a[i]).collect();
@@ -484,13 +518,17 @@ pub fn simulate(
             let scale = x_scale
                 .max(x1.iter().fold(0.0_f64, |m, v| m.max(v.abs())))
                 .max(1e-12);
-            if e > tol * scale && h > settings.step * 1e-6 {
+            if e > tol * scale && h > settings.step * MIN_STEP_FRACTION {
                 h *= 0.5;
                 continue;
             }
             if e < 0.1 * tol * scale {
                 h = (h * 1.5).min(settings.step * 100.0);
             }
+        }
+        if settings.adaptive.is_none() && h < settings.step {
+            // Back towards the requested step after a cutback.
+            h = (2.0 * h).min(settings.step);
         }
         t = t1;
         state = State { x: x1, v: v1, a };
@@ -878,7 +916,7 @@ mod tests {
                 s: vec![0.0, 1.0, 2.0],
                 z: vec![0.0, 0.01, 0.0],
             }),
-            forces: vec![],
+            ..Default::default()
         };
         let e = simulate(&track, &short, &TimeSettings::default(), None)
             .unwrap_err()

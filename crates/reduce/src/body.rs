@@ -86,6 +86,50 @@ impl ReducedBody {
         Ok(generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?.frequencies_hz())
     }
 
+    /// The body with modal damping added: damping ratios `ratios` (one for
+    /// all modes, or one per mode of the reduced body in ascending
+    /// frequency) give `D_red += M_red X diag(2 zeta_i omega_i) X^T M_red`
+    /// with `X` the M_red-orthonormal eigenvectors of the reduced body, so
+    /// that mode i of the free reduced body has ratio zeta_i (rigid-body
+    /// modes, omega = 0, stay undamped).
+    pub fn with_modal_damping(&self, ratios: &[f64]) -> Result<ReducedBody, LinalgError> {
+        let r = self.r();
+        if ratios.len() != 1 && ratios.len() != r {
+            return Err(LinalgError::Dimension(format!(
+                "{} modal damping ratios for {r} modes (give 1 or {r})",
+                ratios.len()
+            )));
+        }
+        if let Some(z) = ratios.iter().find(|z| !(z.is_finite() && **z >= 0.0)) {
+            return Err(LinalgError::Dimension(format!(
+                "damping ratio {z} must be >= 0"
+            )));
+        }
+        let pairs = generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?;
+        let x = &pairs.vectors;
+        let mx = &self.mass * x;
+        let diag = Mat::from_fn(r, r, |i, j| {
+            if i == j {
+                let zeta = if ratios.len() == 1 {
+                    ratios[0]
+                } else {
+                    ratios[i]
+                };
+                2.0 * zeta * pairs.values[i].max(0.0).sqrt()
+            } else {
+                0.0
+            }
+        });
+        let mut modal = &mx * &diag * mx.transpose();
+        flexbody_linalg::sparse::symmetrize(&mut modal);
+        let mut body = self.clone();
+        body.damping = Some(match &self.damping {
+            Some(d) => d + &modal,
+            None => modal,
+        });
+        Ok(body)
+    }
+
     /// The same body in an orthonormal basis: `M_red = I`, `K_red` diagonal
     /// (the reduced eigenproblem `K_red x = w^2 M_red x` solved and `T`
     /// rotated by its eigenvectors). The span, and so every response, is

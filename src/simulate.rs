@@ -1,0 +1,291 @@
+//! The vehicle model in time and frequency (report section 4 with the
+//! reduced frame of 6.6): the flexible body (reduced, or the full FE model
+//! as the reference), rigid bodies and connections of a model file, run
+//! with its `[simulation]` and `[frf]` tables. Section forces come from the
+//! Ritz coordinates by eq. 25 with `q''`.
+
+use crate::fem::{Element, FemError, Substructure};
+use crate::io::{BodySource, ModelFile, SimulationSpec};
+use crate::mbs::time::{simulate, TimeResponse};
+use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
+use crate::reduce::{reduce, ReduceError, ReducedBody, Reduction};
+
+/// Named histories sampled at common times (SI units).
+#[derive(Clone, Debug, Default)]
+pub struct Histories {
+    pub times: Vec<f64>,
+    /// `(name, values)`: body coordinates, connection forces, section forces.
+    pub columns: Vec<(String, Vec<f64>)>,
+}
+
+impl Histories {
+    /// The column called `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
+/// Errors of a simulation or FRF, naming the stage.
+#[derive(Debug, thiserror::Error)]
+pub enum SimulationError {
+    #[error("{0}: the model file has no [simulation] table")]
+    NoSimulation(String),
+    #[error("{0}: the model file has no [frf] table")]
+    NoFrf(String),
+    #[error("reducing the flexible body: {0}")]
+    Reduce(#[from] ReduceError),
+    #[error("reading the reduced body: {0}")]
+    Body(#[from] crate::export::ExportError),
+    #[error("modal damping: {0}")]
+    Damping(flexbody_linalg::LinalgError),
+    #[error(transparent)]
+    Mbs(#[from] MbsError),
+    #[error("recovery: {0}")]
+    Recovery(#[from] FemError),
+    #[error(
+        "the reduced body's DOFs do not match the model's ({0}): it was not made from this model"
+    )]
+    Mismatch(String),
+}
+
+/// The flexible body of a simulation: reduced as the file says (with modal
+/// damping), or read from a reduced-body file.
+pub fn simulation_body(
+    file: &ModelFile,
+    sub: &Substructure,
+    spec: &SimulationSpec,
+) -> Result<ReducedBody, SimulationError> {
+    let body = match &spec.body {
+        BodySource::Reduce { method, modes } => {
+            let mut r = Reduction::new(*method, *modes, file.interface.clone());
+            r.support = file.support.clone();
+            r.springs = file.ground_springs();
+            reduce(sub, &r)?
+        }
+        BodySource::File(path) => {
+            let body = crate::export::read_json(path)?;
+            if body.dof_map.dofs() != sub.dof_map.dofs() {
+                return Err(SimulationError::Mismatch(path.display().to_string()));
+            }
+            body
+        }
+    };
+    if spec.modal_damping.is_empty() {
+        Ok(body)
+    } else {
+        body.with_modal_damping(&spec.modal_damping)
+            .map_err(SimulationError::Damping)
+    }
+}
+
+fn system<'a>(file: &ModelFile, body: FlexibleBody<'a>) -> System<'a> {
+    System {
+        flexible: vec![body],
+        rigid: file.rigid_bodies.clone(),
+        connections: file.connections.clone(),
+        track: file.track,
+    }
+}
+
+/// Runs the `[simulation]` of `file` with `body` (a reduced body or the full
+/// model) and returns its histories.
+pub fn run_simulation(
+    file: &ModelFile,
+    body: FlexibleBody<'_>,
+) -> Result<Histories, SimulationError> {
+    let spec = file
+        .simulation
+        .as_ref()
+        .ok_or_else(|| SimulationError::NoSimulation(file.path.display().to_string()))?;
+    let sys = system(file, body);
+    let response = simulate(&sys, &spec.excitation, &spec.settings, None)?;
+    histories(file, &sys, &response, &spec.record)
+}
+
+/// Body coordinates, connection forces and section forces of a run.
+fn histories(
+    file: &ModelFile,
+    sys: &System,
+    r: &TimeResponse,
+    record: &[usize],
+) -> Result<Histories, SimulationError> {
+    let layout = sys.layout();
+    let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
+    let body = sys.flexible[0];
+    let q_at = layout.flexible[0];
+    for (b, at) in sys.rigid.iter().zip(&layout.rigid) {
+        for (k, kind) in b.active.iter().enumerate() {
+            let unit = if kind.is_rotation() { "rad" } else { "m" };
+            columns.push((
+                format!("{}.{} ({unit})", b.name, kind),
+                r.states.iter().map(|s| s.x[at + k]).collect(),
+            ));
+        }
+    }
+    // Displacements of the flexible body's interface DOFs (u_j = T_j q, eq. 8).
+    for dof in &file.interface {
+        if let Some(row) = body.dof_row(*dof) {
+            let unit = if dof.kind.is_rotation() { "rad" } else { "m" };
+            columns.push((
+                format!("{dof} ({unit})"),
+                r.states
+                    .iter()
+                    .map(|s| row.iter().map(|&(i, g)| g * s.x[q_at + i]).sum())
+                    .collect(),
+            ));
+        }
+    }
+    for (k, c) in sys.connections.iter().enumerate() {
+        columns.push((
+            format!("{} (N)", c.name),
+            r.forces.iter().map(|f| f[k]).collect(),
+        ));
+    }
+    // Section forces (eq. 25): u = T q, a = T q''.
+    let elements: Vec<&Element> = record
+        .iter()
+        .filter_map(|id| file.model.elements().iter().find(|e| e.id() == *id))
+        .collect();
+    let mut section: Vec<Vec<f64>> = vec![Vec::with_capacity(r.times.len()); 4 * elements.len()];
+    for s in &r.states {
+        let n = body.len();
+        let u = body.displacements(&s.x[q_at..q_at + n]);
+        let a = body.displacements(&s.a[q_at..q_at + n]);
+        for (k, e) in elements.iter().enumerate() {
+            let dofs = e.dofs();
+            let pick = |v: &[f64]| -> Vec<f64> {
+                dofs.iter()
+                    .map(|d| file.model.dof_map().index_of(*d).map_or(0.0, |i| v[i]))
+                    .collect()
+            };
+            let f = e
+                .section_forces(&file.model, &pick(&u), &pick(&a))?
+                .unwrap_or_default();
+            section[4 * k].push(f.start[2]);
+            section[4 * k + 1].push(f.start[4]);
+            section[4 * k + 2].push(f.end[2]);
+            section[4 * k + 3].push(f.end[4]);
+        }
+    }
+    for (k, e) in elements.iter().enumerate() {
+        for (c, name) in [
+            "start Qz (N)",
+            "start My (N m)",
+            "end Qz (N)",
+            "end My (N m)",
+        ]
+        .iter()
+        .enumerate()
+        {
+            columns.push((
+                format!("element {} {name}", e.id()),
+                std::mem::take(&mut section[4 * k + c]),
+            ));
+        }
+    }
+    Ok(Histories {
+        times: r.times.clone(),
+        columns,
+    })
+}
+
+/// Transfer functions from the track amplitude to each connection force and
+/// to the recorded section forces, over the `[frf]` band: `(f_hz, name,
+/// magnitude per metre of track amplitude, phase rad)`.
+#[derive(Clone, Debug, Default)]
+pub struct Transfer {
+    pub frequencies_hz: Vec<f64>,
+    /// `(name, magnitude, phase)` per output; magnitude per unit track amplitude.
+    pub outputs: Vec<(String, Vec<f64>, Vec<f64>)>,
+}
+
+/// The `[frf]` sweep of `file` with `body`.
+pub fn run_frf(file: &ModelFile, body: FlexibleBody<'_>) -> Result<Transfer, SimulationError> {
+    let spec = file
+        .frf
+        .as_ref()
+        .ok_or_else(|| SimulationError::NoFrf(file.path.display().to_string()))?;
+    let record = file
+        .simulation
+        .as_ref()
+        .map(|s| s.record.clone())
+        .unwrap_or_default();
+    let sys = system(file, body);
+    let amplitude = file.track.map_or(1.0, |t| t.amplitude);
+    let [lo, hi] = spec.band_hz;
+    let freqs: Vec<f64> = (0..spec.points)
+        .map(|k| lo + (hi - lo) * k as f64 / (spec.points - 1) as f64)
+        .collect();
+    let mut outputs: Vec<(String, Vec<f64>, Vec<f64>)> = sys
+        .connections
+        .iter()
+        .map(|c| (format!("{} (N/m)", c.name), vec![], vec![]))
+        .collect();
+    for id in &record {
+        outputs.push((format!("element {id} end Qz (N/m)"), vec![], vec![]));
+        outputs.push((format!("element {id} end My (N m/m)"), vec![], vec![]));
+    }
+    for f in &freqs {
+        let omega = 2.0 * std::f64::consts::PI * f;
+        let r = harmonic_response(&sys, omega)?;
+        let mut push = |k: usize, re: f64, im: f64| {
+            outputs[k].1.push(re.hypot(im) / amplitude);
+            outputs[k].2.push(im.atan2(re));
+        };
+        for (k, (re, im)) in r.forces.iter().enumerate() {
+            push(k, *re, *im);
+        }
+        let (u_re, u_im) = &r.flexible[0];
+        let f_re = crate::recover::harmonic_section_forces(&file.model, u_re, omega)?;
+        let f_im = crate::recover::harmonic_section_forces(&file.model, u_im, omega)?;
+        for (j, id) in record.iter().enumerate() {
+            let k = sys.connections.len() + 2 * j;
+            let (a, b) = (
+                f_re.iter().find(|e| e.element == *id),
+                f_im.iter().find(|e| e.element == *id),
+            );
+            if let (Some(a), Some(b)) = (a, b) {
+                push(k, a.forces.end[2], b.forces.end[2]);
+                push(k + 1, a.forces.end[4], b.forces.end[4]);
+            }
+        }
+    }
+    Ok(Transfer {
+        frequencies_hz: freqs,
+        outputs,
+    })
+}
+
+/// Damped modes (eq. 21) of the coupled system with `body`.
+pub fn coupled_modes(
+    file: &ModelFile,
+    body: FlexibleBody<'_>,
+) -> Result<Vec<DampedMode>, SimulationError> {
+    Ok(damped_modes(&system(file, body))?)
+}
+
+/// Writes columns as CSV (atomically): the `x` column titled `x_name`
+/// (`time (s)`, `f (Hz)`), then one column per history.
+pub fn write_csv(
+    path: &std::path::Path,
+    x_name: &str,
+    times: &[f64],
+    columns: &[(String, Vec<f64>)],
+) -> Result<(), crate::export::ExportError> {
+    crate::export::write_atomically(path, |out| {
+        let header: Vec<String> = std::iter::once(x_name.to_string())
+            .chain(columns.iter().map(|(n, _)| format!("\"{n}\"")))
+            .collect();
+        writeln!(out, "{}", header.join(","))?;
+        for (k, t) in times.iter().enumerate() {
+            let row: Vec<String> = std::iter::once(format!("{t:.9e}"))
+                .chain(columns.iter().map(|(_, v)| format!("{:.9e}", v[k])))
+                .collect();
+            writeln!(out, "{}", row.join(","))?;
+        }
+        Ok(())
+    })
+}
