@@ -1,37 +1,83 @@
 //! Isoparametric solid elements with consistent mass and linear isotropic
 //! elasticity, in the node numbering and with the integration rules of
-//! Abaqus/CalculiX, so that assembled matrices agree with CalculiX's:
+//! Abaqus/CalculiX, so that assembled matrices agree with CalculiX's
+//! (`*FREQUENCY, SOLVER=MATRIXSTORAGE` output of CalculiX 2.20):
 //!
-//! | kind | nodes | stiffness rule | mass rule |
-//! | --- | --- | --- | --- |
-//! | C3D8 | 8 | 2x2x2 Gauss | (as CalculiX) |
-//! | C3D20 | 20 | 3x3x3 Gauss | (as CalculiX) |
-//! | C3D20R | 20 | 2x2x2 Gauss | (as CalculiX) |
-//! | C3D10 | 10 | 4-point | (as CalculiX) |
-//! | C3D4 | 4 | 1-point | (as CalculiX) |
-//! | C3D6 | 6 | 2-point | (as CalculiX) |
+//! | kind | nodes | stiffness rule | mass rule | stresses from |
+//! | --- | --- | --- | --- | --- |
+//! | C3D8 | 8 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
+//! | C3D20 | 20 | 3x3x3 Gauss | 3x3x3 Gauss | 3x3x3 points, triquadratic extrapolation |
+//! | C3D20R | 20 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
+//! | C3D10 | 10 | 4-point | 4-point | 4 points, linear extrapolation |
+//! | C3D4 | 4 | 1-point | 1-point | the centroid (constant) |
+//! | C3D6 | 6 | 2-point | 2-point | 2 points, linear in `zeta` |
+//!
+//! CalculiX (`e_c3d.f`) integrates stiffness and mass in the same loop over
+//! the same points (`mint3d`): the mass rule is the stiffness rule for every
+//! kind, also for C3D20R (2x2x2, reduced) and C3D4 (the centroid, which
+//! makes its consistent mass `rho V / 16` in every entry of each direction).
+//! Only with `intscheme = 1` (initial accelerations of dynamic steps) does
+//! CalculiX use the full rule for C3D20R; frequency steps use
+//! `intscheme = 0`. CalculiX's C3D8 is the plain fully integrated trilinear
+//! hexahedron (`shape8h.f`; incompatible modes are the separate C3D8I).
+//! The rules are listed in `quadrature.rs`.
+//!
+//! Stiffness: `K_ab = sum_p w_p det J_p [lambda g_a g_b^T + mu (g_b g_a^T +
+//! (g_a . g_b) I)]` with `g_a = grad N_a` at point `p`, the Lame constants
+//! from E and nu (`lambda = E nu / ((1 + nu)(1 - 2 nu))`, `mu = E / (2 (1 +
+//! nu))`, as CalculiX; [`Material::shear_modulus`] is not used). Mass:
+//! `M_ab = rho sum_p w_p det J_p N_a N_b I`.
+//!
+//! Nodal stresses are evaluated at the integration points of the stiffness
+//! rule and carried to the nodes by the polynomial through those points
+//! (the standard extrapolation; at the mid-edge nodes of a C3D20R the
+//! trilinear one gives the mean of the two corners). That is exact for a
+//! constant stress field, smoother than evaluating the strains at the nodes
+//! themselves, and leaves out the hourglass modes of C3D20R (they strain
+//! nothing at the points, as in the stiffness).
 //!
 //! DOFs: `ux, uy, uz` per node, in element node order. Stresses in Voigt
-//! order `[sxx, syy, szz, sxy, syz, szx]` (Pa).
+//! order `[sxx, syy, szz, sxy, syz, szx]` (Pa), from engineering shear
+//! strains.
+
+mod quadrature;
+mod shape;
 
 use super::ElementMatrices;
 use crate::dof::{Dof, DofKind};
 use crate::model::NodeId;
 use crate::section::Material;
 use crate::FemError;
+use faer::Mat;
+use quadrature::Rule;
+use shape::MAX_NODES;
+
+/// Largest number of integration points of a rule.
+const MAX_POINTS: usize = 27;
+
+/// An element whose volume is below this fraction of the cube of its size
+/// (bounding-box diagonal) counts as having zero volume.
+const ZERO_VOLUME: f64 = 1e-12;
 
 /// Solid element types (Abaqus/CalculiX names).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum SolidKind {
+    /// 8-node trilinear hexahedron, full (2x2x2) integration.
     C3D8,
+    /// 20-node serendipity hexahedron, full (3x3x3) integration.
     C3D20,
+    /// 20-node serendipity hexahedron, reduced (2x2x2) integration.
     C3D20R,
+    /// 10-node quadratic tetrahedron, 4-point integration.
     C3D10,
+    /// 4-node linear tetrahedron, 1-point integration.
     C3D4,
+    /// 6-node linear wedge (pentahedron), 2-point integration.
     C3D6,
 }
 
 impl SolidKind {
+    /// All kinds.
     pub const ALL: [SolidKind; 6] = [
         SolidKind::C3D8,
         SolidKind::C3D20,
@@ -70,15 +116,42 @@ impl SolidKind {
             .into_iter()
             .find(|k| k.name().eq_ignore_ascii_case(s))
     }
+
+    /// The stiffness rule (CalculiX `mint3d` with `intscheme = 0`).
+    fn stiffness_rule(self) -> Rule {
+        match self {
+            SolidKind::C3D8 | SolidKind::C3D20R => Rule::Hex2,
+            SolidKind::C3D20 => Rule::Hex3,
+            SolidKind::C3D10 => Rule::Tet4,
+            SolidKind::C3D4 => Rule::Tet1,
+            SolidKind::C3D6 => Rule::Wedge2,
+        }
+    }
+
+    /// The mass rule: CalculiX's mass loop is its stiffness loop.
+    fn mass_rule(self) -> Rule {
+        self.stiffness_rule()
+    }
+
+    /// A rule that integrates `det J` exactly (for [`Solid::volume`]).
+    fn volume_rule(self) -> Rule {
+        match self {
+            SolidKind::C3D20R => Rule::Hex3,
+            kind => kind.stiffness_rule(),
+        }
+    }
 }
 
 /// A solid element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solid {
+    /// Element number (user id).
     pub id: usize,
+    /// Element type.
     pub kind: SolidKind,
     /// Node ids in Abaqus/CalculiX order (`kind.node_count()` of them).
     pub nodes: Vec<NodeId>,
+    /// Linear isotropic material.
     pub material: Material,
 }
 
@@ -90,36 +163,376 @@ impl Solid {
             .collect()
     }
 
-    /// Checks node count and geometry (no zero-volume or inverted element).
+    /// Checks node count, material and geometry: the element must have a
+    /// volume above `1e-12` times the cube of its size (bounding-box
+    /// diagonal) and a positive Jacobian determinant at every integration
+    /// point of its stiffness and mass rules.
     pub fn validate(&self, coords: &[[f64; 3]]) -> Result<(), FemError> {
-        let _ = coords;
-        Err(FemError::InvalidElement {
-            element: self.id,
-            reason: "solid elements are not implemented yet".into(),
+        self.checked_geometry(coords).map(|_| ())
+    }
+
+    /// [`Solid::validate`], returning the geometry it checked.
+    fn checked_geometry(&self, coords: &[[f64; 3]]) -> Result<Geometry, FemError> {
+        let geometry = self.geometry(coords)?;
+        self.check_material()?;
+        let mut det = [0.0; MAX_POINTS];
+        let rules = [self.kind.stiffness_rule(), self.kind.mass_rule()];
+        for (r, &rule) in rules.iter().enumerate() {
+            if r > 0 && rule == rules[0] {
+                continue;
+            }
+            let mut volume = 0.0;
+            for (p, (xi, w)) in rule.points().iter().zip(rule.weights()).enumerate() {
+                det[p] = geometry.det_j(*xi);
+                volume += w * det[p];
+            }
+            let size3 = geometry.size.powi(3);
+            if volume.is_nan() || volume.abs() <= ZERO_VOLUME * size3 {
+                return Err(self.invalid(format!(
+                    "zero volume ({volume:.3e} m^3 for a size of {:.3e} m)",
+                    geometry.size
+                )));
+            }
+            if let Some(p) = det[..rule.len()]
+                .iter()
+                .position(|d| d.is_nan() || *d <= 0.0)
+            {
+                let what = if det[p] < 0.0 { "negative" } else { "zero" };
+                return Err(self.invalid(format!(
+                    "inverted: {what} Jacobian at integration point {} (det J = {:.3e})",
+                    p + 1,
+                    det[p]
+                )));
+            }
+        }
+        Ok(geometry)
+    }
+
+    /// Element volume (m^3): the integral of `det J`, with a rule that is
+    /// exact for the element's geometry (3x3x3 points for C3D20R, whose
+    /// stiffness rule is not exact for curved edges).
+    pub fn volume(&self, coords: &[[f64; 3]]) -> Result<f64, FemError> {
+        let geometry = self.checked_geometry(coords)?;
+        let rule = self.kind.volume_rule();
+        Ok(rule
+            .points()
+            .iter()
+            .zip(rule.weights())
+            .map(|(xi, w)| w * geometry.det_j(*xi))
+            .sum())
+    }
+
+    /// Stiffness and consistent mass in the DOFs of [`Solid::dofs`],
+    /// symmetric to the last bit.
+    pub(crate) fn matrices(&self, coords: &[[f64; 3]]) -> Result<ElementMatrices, FemError> {
+        let geometry = self.checked_geometry(coords)?;
+        let nn = self.kind.node_count();
+        let nd = 3 * nn;
+        let (lambda, mu) = self.lame();
+        let rho = self.material.density;
+        // Upper triangles, row-major: K over all DOFs, M per node pair (the
+        // same for each direction).
+        let mut k = vec![0.0; nd * nd];
+        let mut m = vec![0.0; nn * nn];
+        let stiffness_rule = self.kind.stiffness_rule();
+        let mass_rule = self.kind.mass_rule();
+        for (xi, w) in stiffness_rule.points().iter().zip(stiffness_rule.weights()) {
+            let point = geometry.point(*xi);
+            let wd = w * point.det_j;
+            add_stiffness(&mut k, nn, &point.grad, lambda * wd, mu * wd);
+            if mass_rule == stiffness_rule {
+                add_mass(&mut m, nn, &point.n, rho * wd);
+            }
+        }
+        if mass_rule != stiffness_rule {
+            for (xi, w) in mass_rule.points().iter().zip(mass_rule.weights()) {
+                let point = geometry.point(*xi);
+                add_mass(&mut m, nn, &point.n, rho * w * point.det_j);
+            }
+        }
+        let stiffness = Mat::from_fn(
+            nd,
+            nd,
+            |r, c| {
+                if r <= c {
+                    k[r * nd + c]
+                } else {
+                    k[c * nd + r]
+                }
+            },
+        );
+        let mass = Mat::from_fn(nd, nd, |r, c| {
+            if r % 3 != c % 3 {
+                0.0
+            } else {
+                let (a, b) = (r / 3, c / 3);
+                m[a.min(b) * nn + a.max(b)]
+            }
+        });
+        Ok(ElementMatrices {
+            dofs: self.dofs(),
+            stiffness,
+            mass,
         })
     }
 
-    /// Element volume (m^3).
-    pub fn volume(&self, coords: &[[f64; 3]]) -> Result<f64, FemError> {
-        self.validate(coords).map(|_| 0.0)
-    }
-
-    /// Stiffness and consistent mass in the DOFs of [`Solid::dofs`].
-    pub(crate) fn matrices(&self, coords: &[[f64; 3]]) -> Result<ElementMatrices, FemError> {
-        self.validate(coords)?;
-        unreachable!()
-    }
-
     /// Stresses at the element's nodes (Pa, Voigt order) from the element
-    /// displacements `u_e` (order of [`Solid::dofs`]).
+    /// displacements `u_e` (`ux, uy, uz` per node, in node order): evaluated
+    /// at the stiffness rule's integration points and extrapolated to the
+    /// nodes (see the module docs). Exact for a constant stress field.
     pub fn nodal_stresses(
         &self,
         coords: &[[f64; 3]],
         u_e: &[f64],
     ) -> Result<Vec<[f64; 6]>, FemError> {
-        let _ = u_e;
-        self.validate(coords).map(|_| vec![])
+        let geometry = self.checked_geometry(coords)?;
+        let nn = self.kind.node_count();
+        if u_e.len() != 3 * nn {
+            return Err(self.invalid(format!(
+                "{} needs {} displacement values, got {}",
+                self.kind.name(),
+                3 * nn,
+                u_e.len()
+            )));
+        }
+        let (lambda, mu) = self.lame();
+        let rule = self.kind.stiffness_rule();
+        let mut at_points = [[0.0; 6]; MAX_POINTS];
+        for (s, xi) in at_points.iter_mut().zip(rule.points()) {
+            let point = geometry.point(*xi);
+            *s = stress(&strain(&point.grad[..nn], u_e), lambda, mu);
+        }
+        let mut c = [0.0; MAX_POINTS];
+        Ok(shape::node_coordinates(self.kind)
+            .iter()
+            .map(|xi| {
+                rule.interpolation_weights(*xi, &mut c);
+                let mut s = [0.0; 6];
+                for (cp, sp) in c.iter().zip(&at_points[..rule.len()]) {
+                    for (si, spi) in s.iter_mut().zip(sp) {
+                        *si += cp * spi;
+                    }
+                }
+                s
+            })
+            .collect())
     }
+
+    fn invalid(&self, reason: String) -> FemError {
+        FemError::InvalidElement {
+            element: self.id,
+            reason,
+        }
+    }
+
+    /// Node coordinates relative to the first node (so that the Jacobian
+    /// does not lose digits far from the origin) and the element's size.
+    fn geometry(&self, coords: &[[f64; 3]]) -> Result<Geometry, FemError> {
+        let nn = self.kind.node_count();
+        if coords.len() != nn {
+            return Err(self.invalid(format!(
+                "{} needs {} nodes, got {}",
+                self.kind.name(),
+                nn,
+                coords.len()
+            )));
+        }
+        if coords.iter().flatten().any(|c| !c.is_finite()) {
+            return Err(self.invalid("node coordinates must be finite".into()));
+        }
+        let mut rel = [[0.0; 3]; MAX_NODES];
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for (r, x) in rel.iter_mut().zip(coords) {
+            for i in 0..3 {
+                r[i] = x[i] - coords[0][i];
+                lo[i] = lo[i].min(x[i]);
+                hi[i] = hi[i].max(x[i]);
+            }
+        }
+        let size = (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt();
+        Ok(Geometry {
+            kind: self.kind,
+            rel,
+            size,
+        })
+    }
+
+    fn check_material(&self) -> Result<(), FemError> {
+        let m = &self.material;
+        let problem = if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
+            Some(format!(
+                "Young's modulus must be positive and finite, got {}",
+                m.youngs_modulus
+            ))
+        } else if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+            Some(format!(
+                "Poisson's ratio must be between -1 and 0.5, got {}",
+                m.poisson_ratio
+            ))
+        } else if !(m.density.is_finite() && m.density >= 0.0) {
+            Some(format!(
+                "density must be zero or positive and finite, got {}",
+                m.density
+            ))
+        } else {
+            None
+        };
+        match problem {
+            Some(p) => Err(self.invalid(format!("material: {p}"))),
+            None => Ok(()),
+        }
+    }
+
+    /// Lame constants `(lambda, mu)` from E and nu.
+    fn lame(&self) -> (f64, f64) {
+        let e = self.material.youngs_modulus;
+        let nu = self.material.poisson_ratio;
+        (
+            e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            e / (2.0 * (1.0 + nu)),
+        )
+    }
+}
+
+/// Node coordinates relative to the first node, and the element size.
+struct Geometry {
+    kind: SolidKind,
+    rel: [[f64; 3]; MAX_NODES],
+    size: f64,
+}
+
+/// Shape functions, their global gradients and `det J` at one point.
+struct PointValues {
+    n: [f64; MAX_NODES],
+    grad: [[f64; 3]; MAX_NODES],
+    det_j: f64,
+}
+
+impl Geometry {
+    /// Shape functions, natural derivatives and the Jacobian
+    /// `J_ij = dx_i / dxi_j` at `xi`.
+    fn jacobian(&self, xi: [f64; 3]) -> ([f64; MAX_NODES], [[f64; 3]; MAX_NODES], [[f64; 3]; 3]) {
+        let mut n = [0.0; MAX_NODES];
+        let mut dn = [[0.0; 3]; MAX_NODES];
+        shape::evaluate(self.kind, xi, &mut n, &mut dn);
+        let mut j = [[0.0; 3]; 3];
+        for (x, d) in self.rel.iter().zip(&dn).take(self.kind.node_count()) {
+            for (ji, xc) in j.iter_mut().zip(x) {
+                for (jij, dj) in ji.iter_mut().zip(d) {
+                    *jij += xc * dj;
+                }
+            }
+        }
+        (n, dn, j)
+    }
+
+    fn det_j(&self, xi: [f64; 3]) -> f64 {
+        det3(&self.jacobian(xi).2)
+    }
+
+    /// Everything at `xi`; the element must have been validated (`det J > 0`).
+    fn point(&self, xi: [f64; 3]) -> PointValues {
+        let (n, dn, j) = self.jacobian(xi);
+        let det_j = det3(&j);
+        // Inverse of J from its cofactors: inv[l][m] = dxi_l / dx_m.
+        let inv = [
+            [
+                (j[1][1] * j[2][2] - j[2][1] * j[1][2]) / det_j,
+                (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det_j,
+                (j[0][1] * j[1][2] - j[1][1] * j[0][2]) / det_j,
+            ],
+            [
+                (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det_j,
+                (j[0][0] * j[2][2] - j[2][0] * j[0][2]) / det_j,
+                (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det_j,
+            ],
+            [
+                (j[1][0] * j[2][1] - j[2][0] * j[1][1]) / det_j,
+                (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det_j,
+                (j[0][0] * j[1][1] - j[1][0] * j[0][1]) / det_j,
+            ],
+        ];
+        let mut grad = [[0.0; 3]; MAX_NODES];
+        for (g, d) in grad.iter_mut().zip(&dn).take(self.kind.node_count()) {
+            for (m, gm) in g.iter_mut().enumerate() {
+                *gm = d[0] * inv[0][m] + d[1] * inv[1][m] + d[2] * inv[2][m];
+            }
+        }
+        PointValues { n, grad, det_j }
+    }
+}
+
+fn det3(j: &[[f64; 3]; 3]) -> f64 {
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
+}
+
+/// Adds one point's stiffness to the upper triangle of `k` (row-major,
+/// `3 nn` square): block `(a, b)`, `a <= b`, gets
+/// `lw g_a g_b^T + mw (g_b g_a^T + (g_a . g_b) I)` with `lw = lambda w det J`,
+/// `mw = mu w det J`.
+fn add_stiffness(k: &mut [f64], nn: usize, grad: &[[f64; 3]; MAX_NODES], lw: f64, mw: f64) {
+    let nd = 3 * nn;
+    for a in 0..nn {
+        let gl = grad[a].map(|g| lw * g);
+        let gm = grad[a].map(|g| mw * g);
+        for (b, gb) in grad.iter().enumerate().take(nn).skip(a) {
+            let dot = gm[0] * gb[0] + gm[1] * gb[1] + gm[2] * gb[2];
+            for i in 0..3 {
+                let row = &mut k[(3 * a + i) * nd + 3 * b..][..3];
+                for (j, kij) in row.iter_mut().enumerate() {
+                    *kij += gl[i] * gb[j] + gm[j] * gb[i] + if i == j { dot } else { 0.0 };
+                }
+            }
+        }
+    }
+}
+
+/// Adds one point's scalar mass `rw N_a N_b` to the upper triangle of `m`
+/// (row-major, `nn` square).
+fn add_mass(m: &mut [f64], nn: usize, n: &[f64; MAX_NODES], rw: f64) {
+    for a in 0..nn {
+        let na = rw * n[a];
+        for b in a..nn {
+            m[a * nn + b] += na * n[b];
+        }
+    }
+}
+
+/// Engineering strains `[exx, eyy, ezz, gxy, gyz, gzx]` from nodal
+/// displacements `u` (3 per node) and the shape-function gradients.
+fn strain(grad: &[[f64; 3]], u: &[f64]) -> [f64; 6] {
+    // h[i][j] = du_i / dx_j.
+    let mut h = [[0.0; 3]; 3];
+    for (g, ua) in grad.iter().zip(u.chunks_exact(3)) {
+        for (hi, ui) in h.iter_mut().zip(ua) {
+            for (hij, gj) in hi.iter_mut().zip(g) {
+                *hij += ui * gj;
+            }
+        }
+    }
+    [
+        h[0][0],
+        h[1][1],
+        h[2][2],
+        h[0][1] + h[1][0],
+        h[1][2] + h[2][1],
+        h[2][0] + h[0][2],
+    ]
+}
+
+/// Isotropic Hooke's law in Voigt notation.
+fn stress(e: &[f64; 6], lambda: f64, mu: f64) -> [f64; 6] {
+    let tr = e[0] + e[1] + e[2];
+    [
+        lambda * tr + 2.0 * mu * e[0],
+        lambda * tr + 2.0 * mu * e[1],
+        lambda * tr + 2.0 * mu * e[2],
+        mu * e[3],
+        mu * e[4],
+        mu * e[5],
+    ]
 }
 
 /// Von Mises equivalent stress of a Voigt stress `[sxx, syy, szz, sxy, syz, szx]`.
@@ -129,3 +542,6 @@ pub fn von_mises(s: &[f64; 6]) -> f64 {
         + 3.0 * (xy * xy + yz * yz + zx * zx))
         .sqrt()
 }
+
+#[cfg(test)]
+mod tests;
