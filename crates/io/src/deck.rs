@@ -1,1 +1,0 @@
-//! Abaqus/CalculiX input decks (`.inp`): being written.

@@ -1,0 +1,355 @@
+//! From the cards read to a checked [`Model`]: sets resolved, properties
+//! assigned to elements, fixed DOFs filtered, and every error of
+//! [`Model::new`] and [`Element::validate`] mapped to the deck line of the
+//! element, node or boundary condition.
+
+use super::cards::{Files, Loc};
+use super::keywords::{ElementType, Reader};
+use super::properties::{spring_properties, RawSection, SectionData, SpringProperties};
+use crate::InputError;
+use flexbody_fem::element::{AxialSpring, Beam, PointMass, Solid, Spring};
+use flexbody_fem::{BeamProperties, BeamTheory, Dof, Element, FemError, Material, Model, NodeId};
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+/// The checked model, the element sets and the warnings.
+pub(super) struct Built {
+    pub model: Model,
+    pub element_sets: BTreeMap<String, Vec<usize>>,
+    pub warnings: Vec<String>,
+}
+
+/// Builds and checks the model.
+pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
+    let Reader {
+        files,
+        nodes,
+        elements: raw,
+        node_sets,
+        node_set_order,
+        element_sets,
+        element_set_order,
+        materials,
+        sections,
+        fixed,
+        mut warnings,
+        ..
+    } = reader;
+
+    let node_ids: HashSet<NodeId> = nodes.iter().map(|n| n.id).collect();
+    let element_index: HashMap<usize, usize> =
+        raw.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
+    // In order of definition: a set that copies another comes after it, so
+    // an undefined id is reported for the set that lists it.
+    for set in &node_set_order {
+        let entries = node_sets.get(set).map_or(&[][..], Vec::as_slice);
+        if let Some((n, loc)) = entries.iter().find(|(n, _)| !node_ids.contains(n)) {
+            return Err(files.error(
+                *loc,
+                format!("node set '{set}' refers to node {n}, which is not defined"),
+            ));
+        }
+    }
+    for set in &element_set_order {
+        let entries = element_sets.get(set).map_or(&[][..], Vec::as_slice);
+        if let Some((e, loc)) = entries.iter().find(|(e, _)| !element_index.contains_key(e)) {
+            return Err(files.error(
+                *loc,
+                format!("element set '{set}' refers to element {e}, which is not defined"),
+            ));
+        }
+    }
+
+    // Which property keyword each element takes its properties from.
+    let mut section_of: Vec<Option<usize>> = vec![None; raw.len()];
+    for (si, s) in sections.iter().enumerate() {
+        let entries = element_sets.get(&s.elset).ok_or_else(|| {
+            files.error(
+                s.loc,
+                format!("{}: element set '{}' is not defined", s.keyword, s.elset),
+            )
+        })?;
+        for (id, _) in entries {
+            let Some(&ei) = element_index.get(id) else {
+                continue; // checked above
+            };
+            let e = &raw[ei];
+            if !s.data.accepts(e.kind) {
+                return Err(files.error(
+                    s.loc,
+                    format!(
+                        "{} on element set '{}': element {id} is of type {}, which takes its \
+                         properties from {}",
+                        s.keyword,
+                        s.elset,
+                        e.kind.name(),
+                        e.kind.property_keyword()
+                    ),
+                ));
+            }
+            match section_of[ei] {
+                Some(prev) if prev != si => {
+                    return Err(files.error(
+                        s.loc,
+                        format!(
+                            "element {id} gets its properties twice: from {} on {} and from {}",
+                            sections[prev].keyword,
+                            files.describe(sections[prev].loc),
+                            s.keyword
+                        ),
+                    ))
+                }
+                _ => section_of[ei] = Some(si),
+            }
+        }
+    }
+
+    let mut props = Properties {
+        files,
+        materials: &materials,
+        built: HashMap::new(),
+        springs: HashMap::new(),
+    };
+    let mut elements = Vec::with_capacity(raw.len());
+    let mut element_loc: HashMap<usize, Loc> = HashMap::with_capacity(raw.len());
+    for (ei, e) in raw.iter().enumerate() {
+        let Some(si) = section_of[ei] else {
+            return Err(files.error(
+                e.loc,
+                format!(
+                    "element {} ({}) has no properties: no {} covers it",
+                    e.id,
+                    e.kind.name(),
+                    e.kind.property_keyword()
+                ),
+            ));
+        };
+        let s = &sections[si];
+        let id = e.id;
+        let element = match (e.kind, &s.data, e.nodes.as_slice()) {
+            (ElementType::Solid(kind), SectionData::Solid, _) => Element::Solid(Solid {
+                id,
+                kind,
+                nodes: e.nodes.clone(),
+                material: props.material(s)?,
+            }),
+            (ElementType::B31, SectionData::Beam { constants, n1 }, &[a, b]) => {
+                Element::Beam(Beam {
+                    id,
+                    nodes: [a, b],
+                    properties: BeamProperties::new(
+                        props.material(s)?,
+                        constants.clone(),
+                        BeamTheory::Timoshenko,
+                    ),
+                    orientation: *n1,
+                })
+            }
+            (ElementType::Mass, SectionData::Mass(mass), &[node]) => {
+                Element::PointMass(PointMass {
+                    id,
+                    node,
+                    mass: *mass,
+                    inertia: [0.0; 6],
+                })
+            }
+            (ElementType::SpringA, SectionData::Spring(_), &[a, b]) => {
+                Element::AxialSpring(AxialSpring {
+                    id,
+                    nodes: [a, b],
+                    stiffness: props.spring(si, s, e.kind)?.stiffness,
+                })
+            }
+            (ElementType::Spring1 | ElementType::Spring2, SectionData::Spring(_), nodes) => {
+                let p = props.spring(si, s, e.kind)?;
+                let dof = |node: Option<&NodeId>, kind: Option<flexbody_fem::DofKind>| {
+                    node.zip(kind).map(|(n, k)| Dof::new(*n, k))
+                };
+                let first = dof(nodes.first(), p.first).ok_or_else(|| {
+                    files.error(e.loc, format!("element {id}: spring without a DOF"))
+                })?;
+                let second = if e.kind == ElementType::Spring2 {
+                    Some(dof(nodes.get(1), p.second).ok_or_else(|| {
+                        files.error(e.loc, format!("element {id}: spring without a second DOF"))
+                    })?)
+                } else {
+                    None
+                };
+                Element::Spring(Spring {
+                    id,
+                    first,
+                    second,
+                    stiffness: p.stiffness,
+                })
+            }
+            _ => {
+                return Err(files.error(
+                    e.loc,
+                    format!(
+                        "element {id} ({}) does not fit {} on {}",
+                        e.kind.name(),
+                        s.keyword,
+                        files.describe(s.loc)
+                    ),
+                ))
+            }
+        };
+        element_loc.insert(id, e.loc);
+        elements.push(element);
+    }
+
+    // Fixed DOFs: only those an element creates (CalculiX also ignores
+    // rotations fixed on nodes of solid elements).
+    let active: HashSet<Dof> = elements
+        .iter()
+        .filter(|e| e.creates_dofs())
+        .flat_map(Element::dofs)
+        .collect();
+    let mut kept = Vec::with_capacity(fixed.len());
+    let mut dropped: Option<(Dof, Loc, usize)> = None;
+    for (dof, loc) in &fixed {
+        if !node_ids.contains(&dof.node) {
+            return Err(files.error(
+                *loc,
+                format!(
+                    "*BOUNDARY refers to node {}, which is not defined",
+                    dof.node
+                ),
+            ));
+        }
+        if active.contains(dof) {
+            kept.push(*dof);
+        } else {
+            let d = dropped.get_or_insert((*dof, *loc, 0));
+            d.2 += 1;
+        }
+    }
+    if let Some((dof, loc, count)) = dropped {
+        warnings.push(format!(
+            "*BOUNDARY ({}): {count} fixed DOF(s) ignored because no element gives the node \
+             that DOF (first: {dof}; solid elements have no rotations)",
+            files.describe(loc)
+        ));
+    }
+
+    let node_sets: BTreeMap<String, Vec<NodeId>> = node_sets
+        .into_iter()
+        .map(|(k, v)| (k, unique(v.into_iter().map(|(n, _)| n))))
+        .collect();
+    let element_sets: BTreeMap<String, Vec<usize>> = element_sets
+        .into_iter()
+        .map(|(k, v)| (k, unique(v.into_iter().map(|(e, _)| e))))
+        .collect();
+
+    let model = Model::new(nodes, elements, node_sets, kept, None).map_err(|err| {
+        let loc = match &err {
+            FemError::UnknownNode { element, .. }
+            | FemError::ZeroLength { element }
+            | FemError::OrientationParallel { element, .. }
+            | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
+            FemError::MassWithoutDof { node } => raw
+                .iter()
+                .find(|e| e.kind == ElementType::Mass && e.nodes.first() == Some(node))
+                .map(|e| e.loc),
+            _ => None,
+        };
+        match loc {
+            Some(loc) => files.error(loc, err.to_string()),
+            None => InputError::Invalid {
+                path: files.paths[0].clone(),
+                line: None,
+                message: err.to_string(),
+            },
+        }
+    })?;
+    for e in model.elements() {
+        e.validate(&model)
+            .map_err(|err| match element_loc.get(&e.id()) {
+                Some(loc) => files.error(*loc, err.to_string()),
+                None => InputError::Invalid {
+                    path: files.paths[0].clone(),
+                    line: None,
+                    message: err.to_string(),
+                },
+            })?;
+    }
+    Ok(Built {
+        model,
+        element_sets,
+        warnings,
+    })
+}
+
+/// The ids in first-seen order, each once.
+fn unique<T: Copy + Eq + std::hash::Hash>(ids: impl Iterator<Item = T>) -> Vec<T> {
+    let mut seen = HashSet::new();
+    ids.filter(|id| seen.insert(*id)).collect()
+}
+
+/// Materials and spring data, checked once per use.
+struct Properties<'a> {
+    files: &'a Files,
+    materials: &'a [super::properties::RawMaterial],
+    built: HashMap<String, Material>,
+    springs: HashMap<(usize, &'static str), SpringProperties>,
+}
+
+impl Properties<'_> {
+    /// The material a section names: defined, with `*ELASTIC` and `*DENSITY`.
+    fn material(&mut self, s: &RawSection) -> Result<Material, InputError> {
+        let files = self.files;
+        let Some(name) = &s.material else {
+            return Err(files.error(s.loc, format!("{} needs MATERIAL=...", s.keyword)));
+        };
+        if let Some(m) = self.built.get(name) {
+            return Ok(m.clone());
+        }
+        let m = self
+            .materials
+            .iter()
+            .find(|m| &m.name == name)
+            .ok_or_else(|| {
+                files.error(
+                    s.loc,
+                    format!("{}: material '{name}' is not defined", s.keyword),
+                )
+            })?;
+        let used = format!("used by {} on {}", s.keyword, files.describe(s.loc));
+        let (e, nu, elastic_loc) = m.elastic.ok_or_else(|| {
+            files.error(m.loc, format!("material '{name}' has no *ELASTIC ({used})"))
+        })?;
+        let (rho, density_loc) = m.density.ok_or_else(|| {
+            files.error(
+                m.loc,
+                format!("material '{name}' has no *DENSITY; the mass matrix needs it ({used})"),
+            )
+        })?;
+        let material = Material::new(e, nu, rho).map_err(|err| {
+            let loc = if rho.is_finite() && rho >= 0.0 {
+                elastic_loc
+            } else {
+                density_loc
+            };
+            files.error(loc, format!("material '{name}': {err}"))
+        })?;
+        self.built.insert(name.clone(), material.clone());
+        Ok(material)
+    }
+
+    /// The DOFs and stiffness of springs of type `kind` under section `si`.
+    fn spring(
+        &mut self,
+        si: usize,
+        s: &RawSection,
+        kind: ElementType,
+    ) -> Result<SpringProperties, InputError> {
+        if let Some(p) = self.springs.get(&(si, kind.name())) {
+            return Ok(*p);
+        }
+        let SectionData::Spring(lines) = &s.data else {
+            return Err(self.files.error(s.loc, "*SPRING data expected"));
+        };
+        let p = spring_properties(self.files, s.loc, lines, kind)?;
+        self.springs.insert((si, kind.name()), p);
+        Ok(p)
+    }
+}

@@ -1,0 +1,734 @@
+//! Reading the cards in order: which keywords are supported, which are
+//! skipped with a warning and which are refused; nodes, elements, sets and
+//! boundary conditions. Materials and sections are in `properties.rs`.
+//! Nothing is checked across cards here beyond what must exist already
+//! (sets named in set data and in `*BOUNDARY`); the model is built and
+//! checked in `build.rs`.
+
+use super::cards::{is_numeric, name, Card, DataLine, Files, Loc};
+use crate::InputError;
+use flexbody_fem::element::SolidKind;
+use flexbody_fem::{Dof, DofKind, Node, NodeId};
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+/// Most ids one `GENERATE` line may produce.
+const MAX_GENERATED: u64 = 50_000_000;
+
+/// Keywords skipped with a warning: they do not change the stiffness or
+/// the mass of the linear model (steps, loads, output, thermal and
+/// nonlinear material data, definitions only used by refused keywords).
+const IGNORED: &[&str] = &[
+    "HEADING",
+    "PREPRINT",
+    "STEP",
+    "ENDSTEP",
+    "STATIC",
+    "FREQUENCY",
+    "BUCKLE",
+    "DYNAMIC",
+    "MODALDYNAMIC",
+    "STEADYSTATEDYNAMICS",
+    "COMPLEXFREQUENCY",
+    "HEATTRANSFER",
+    "COUPLEDTEMPERATURE-DISPLACEMENT",
+    "UNCOUPLEDTEMPERATURE-DISPLACEMENT",
+    "VISCO",
+    "GREEN",
+    "SENSITIVITY",
+    "NODEFILE",
+    "ELFILE",
+    "NODEPRINT",
+    "ELPRINT",
+    "CONTACTFILE",
+    "CONTACTPRINT",
+    "SECTIONPRINT",
+    "NODEOUTPUT",
+    "ELEMENTOUTPUT",
+    "CONTACTOUTPUT",
+    "OUTPUT",
+    "CLOAD",
+    "DLOAD",
+    "DSLOAD",
+    "CFLUX",
+    "DFLUX",
+    "FILM",
+    "RADIATE",
+    "TEMPERATURE",
+    "INITIALCONDITIONS",
+    "RESTART",
+    "AMPLITUDE",
+    "TIMEPOINTS",
+    "PHYSICALCONSTANTS",
+    "VALUESATINFINITY",
+    "ORIENTATION",
+    "SURFACE",
+    "SURFACEINTERACTION",
+    "SURFACEBEHAVIOR",
+    "FRICTION",
+    "GAPCONDUCTANCE",
+    "CONTROLS",
+    "FILEFORMAT",
+    "EXPANSION",
+    "CONDUCTIVITY",
+    "SPECIFICHEAT",
+    "PLASTIC",
+    "CYCLICHARDENING",
+    "CREEP",
+    "DAMPING",
+    "MODALDAMPING",
+    "DEPVAR",
+    "SELECTCYCLICSYMMETRYMODES",
+    "PART",
+    "ENDPART",
+    "ASSEMBLY",
+    "ENDASSEMBLY",
+    "ENDINSTANCE",
+];
+
+/// Keywords refused because ignoring them would change the model, with
+/// what they would change.
+const REFUSED: &[(&str, &str)] = &[
+    ("EQUATION", "stiffness matrix (constraints between DOFs)"),
+    ("MPC", "stiffness matrix (constraints between DOFs)"),
+    ("RIGIDBODY", "stiffness matrix (constraints between DOFs)"),
+    ("COUPLING", "stiffness matrix (constraints between DOFs)"),
+    ("KINEMATIC", "stiffness matrix (constraints between DOFs)"),
+    (
+        "DISTRIBUTING",
+        "stiffness matrix (constraints between DOFs)",
+    ),
+    (
+        "KINEMATICCOUPLING",
+        "stiffness matrix (constraints between DOFs)",
+    ),
+    (
+        "DISTRIBUTINGCOUPLING",
+        "stiffness matrix (constraints between DOFs)",
+    ),
+    ("TIE", "stiffness matrix (constraints between DOFs)"),
+    ("CONTACTPAIR", "stiffness matrix"),
+    ("CONTACT", "stiffness matrix"),
+    ("GAP", "stiffness matrix"),
+    ("SHELLSECTION", "stiffness and mass matrices"),
+    ("MEMBRANESECTION", "stiffness and mass matrices"),
+    ("BEAMGENERALSECTION", "stiffness and mass matrices"),
+    ("FLUIDSECTION", "stiffness and mass matrices"),
+    ("CONNECTORSECTION", "stiffness and mass matrices"),
+    ("NODALTHICKNESS", "stiffness and mass matrices"),
+    ("NORMAL", "stiffness matrix (beam and shell directions)"),
+    ("TRANSFORM", "stiffness matrix (DOF directions at nodes)"),
+    ("SYSTEM", "node coordinates"),
+    ("ROTARYINERTIA", "mass matrix"),
+    ("NONSTRUCTURALMASS", "mass matrix"),
+    ("DASHPOT", "damping matrix"),
+    ("USERELEMENT", "stiffness and mass matrices"),
+    ("USERMATERIAL", "stiffness matrix (material)"),
+    ("HYPERELASTIC", "stiffness matrix (material)"),
+    ("HYPERFOAM", "stiffness matrix (material)"),
+    ("DEFORMATIONPLASTICITY", "stiffness matrix (material)"),
+    ("PRE-TENSIONSECTION", "stiffness matrix"),
+    ("MODELCHANGE", "stiffness and mass matrices"),
+    ("CYCLICSYMMETRYMODEL", "stiffness and mass matrices"),
+    ("SUBMODEL", "boundary conditions"),
+    ("NGEN", "model (it creates nodes)"),
+    ("NFILL", "model (it creates nodes)"),
+    ("NCOPY", "model (it creates nodes)"),
+    ("ELGEN", "model (it creates elements)"),
+    ("ELCOPY", "model (it creates elements)"),
+];
+
+/// Keywords that belong to the current `*MATERIAL` block.
+const MATERIAL_OPTIONS: &[&str] = &[
+    "ELASTIC",
+    "DENSITY",
+    "EXPANSION",
+    "CONDUCTIVITY",
+    "SPECIFICHEAT",
+    "PLASTIC",
+    "CYCLICHARDENING",
+    "CREEP",
+    "DAMPING",
+    "HYPERELASTIC",
+    "HYPERFOAM",
+    "DEFORMATIONPLASTICITY",
+    "USERMATERIAL",
+    "DEPVAR",
+];
+
+/// Element types read from `*ELEMENT, TYPE=`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum ElementType {
+    Solid(SolidKind),
+    B31,
+    Mass,
+    SpringA,
+    Spring1,
+    Spring2,
+}
+
+impl ElementType {
+    fn parse(s: &str) -> Option<Self> {
+        if let Some(k) = SolidKind::parse(s) {
+            return Some(ElementType::Solid(k));
+        }
+        Some(match s {
+            "B31" => ElementType::B31,
+            "MASS" => ElementType::Mass,
+            "SPRINGA" => ElementType::SpringA,
+            "SPRING1" => ElementType::Spring1,
+            "SPRING2" => ElementType::Spring2,
+            _ => return None,
+        })
+    }
+
+    /// Abaqus/CalculiX name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementType::Solid(k) => k.name(),
+            ElementType::B31 => "B31",
+            ElementType::Mass => "MASS",
+            ElementType::SpringA => "SPRINGA",
+            ElementType::Spring1 => "SPRING1",
+            ElementType::Spring2 => "SPRING2",
+        }
+    }
+
+    fn node_count(self) -> usize {
+        match self {
+            ElementType::Solid(k) => k.node_count(),
+            ElementType::Mass | ElementType::Spring1 => 1,
+            ElementType::B31 | ElementType::SpringA | ElementType::Spring2 => 2,
+        }
+    }
+
+    /// The keyword that gives elements of this type their properties.
+    pub fn property_keyword(self) -> &'static str {
+        match self {
+            ElementType::Solid(_) => "*SOLID SECTION",
+            ElementType::B31 => "*BEAM SECTION",
+            ElementType::Mass => "*MASS",
+            ElementType::SpringA | ElementType::Spring1 | ElementType::Spring2 => "*SPRING",
+        }
+    }
+}
+
+/// Why an element type is refused, for the types users are likely to have.
+fn unsupported_type_hint(t: &str) -> &'static str {
+    match t {
+        "C3D8I" => {
+            " (incompatible modes are not implemented; use C3D8, or C3D20/C3D20R for bending)"
+        }
+        "C3D8R" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
+        "C3D15" => " (use C3D6 or C3D20)",
+        "B32" | "B32R" | "B31R" => " (use B31)",
+        _ if t.starts_with('S') || t.starts_with('M') => {
+            " (shells and membranes are not implemented)"
+        }
+        _ if t.starts_with("CP") || t.starts_with("CAX") => {
+            " (plane and axisymmetric elements are not implemented)"
+        }
+        _ => "",
+    }
+}
+
+/// An element as read: its properties come from a section found later.
+#[derive(Clone, Debug)]
+pub(super) struct RawElement {
+    pub id: usize,
+    pub kind: ElementType,
+    pub nodes: Vec<NodeId>,
+    pub loc: Loc,
+}
+
+/// The deck read card by card, before sections are assigned.
+pub(super) struct Reader<'a> {
+    pub files: &'a Files,
+    pub nodes: Vec<Node>,
+    node_loc: HashMap<NodeId, Loc>,
+    pub elements: Vec<RawElement>,
+    element_loc: HashMap<usize, Loc>,
+    /// Set entries with the line that listed them (copied with their
+    /// line when a set names another), and the sets in order of definition.
+    pub node_sets: BTreeMap<String, Vec<(NodeId, Loc)>>,
+    pub node_set_order: Vec<String>,
+    pub element_sets: BTreeMap<String, Vec<(usize, Loc)>>,
+    pub element_set_order: Vec<String>,
+    pub materials: Vec<super::properties::RawMaterial>,
+    pub sections: Vec<super::properties::RawSection>,
+    /// Fixed DOFs with their `*BOUNDARY` data line.
+    pub fixed: Vec<(Dof, Loc)>,
+    pub warnings: Vec<String>,
+    warned: HashSet<String>,
+    pub(super) current_material: Option<usize>,
+    in_step: bool,
+    instances: usize,
+}
+
+impl<'a> Reader<'a> {
+    pub fn new(files: &'a Files) -> Self {
+        Self {
+            files,
+            nodes: Vec::new(),
+            node_loc: HashMap::new(),
+            elements: Vec::new(),
+            element_loc: HashMap::new(),
+            node_sets: BTreeMap::new(),
+            node_set_order: Vec::new(),
+            element_sets: BTreeMap::new(),
+            element_set_order: Vec::new(),
+            materials: Vec::new(),
+            sections: Vec::new(),
+            fixed: Vec::new(),
+            warnings: Vec::new(),
+            warned: HashSet::new(),
+            current_material: None,
+            in_step: false,
+            instances: 0,
+        }
+    }
+
+    /// Reads all cards in order.
+    pub fn read(&mut self, cards: &[Card]) -> Result<(), InputError> {
+        for card in cards {
+            let k = card.keyword.as_str();
+            if !MATERIAL_OPTIONS.contains(&k) {
+                self.current_material = None;
+            }
+            match k {
+                "NODE" => self.node(card)?,
+                "ELEMENT" => self.element(card)?,
+                "NSET" => self.nset(card)?,
+                "ELSET" => self.elset(card)?,
+                "BOUNDARY" => self.boundary(card)?,
+                "MATERIAL" => self.material(card)?,
+                "ELASTIC" => self.elastic(card)?,
+                "DENSITY" => self.density(card)?,
+                "SOLIDSECTION" => self.solid_section(card)?,
+                "BEAMSECTION" => self.beam_section(card)?,
+                "MASS" => self.mass(card)?,
+                "SPRING" => self.spring(card)?,
+                "INSTANCE" => self.instance(card)?,
+                _ => {
+                    if let Some((_, what)) = REFUSED.iter().find(|(r, _)| *r == k) {
+                        return Err(self.files.error(
+                            card.loc,
+                            format!(
+                                "{} is not supported: ignoring it would change the {what}",
+                                card.display
+                            ),
+                        ));
+                    }
+                    match k {
+                        "STEP" => self.in_step = true,
+                        "ENDSTEP" => self.in_step = false,
+                        _ => {}
+                    }
+                    let note = if IGNORED.contains(&k) {
+                        ""
+                    } else {
+                        ": unknown keyword, skipped"
+                    };
+                    self.warn_once(card, note);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Records `*KEY (line n)` the first time a keyword is skipped.
+    pub(super) fn warn_once(&mut self, card: &Card, note: &str) {
+        if self.warned.insert(card.keyword.clone()) {
+            self.warnings.push(format!(
+                "{} ({}){note}",
+                card.display,
+                self.files.describe(card.loc)
+            ));
+        }
+    }
+
+    /// Warns about parameters the reader does not use.
+    pub(super) fn check_params(&mut self, card: &Card, known: &[&str]) {
+        for p in card.unknown_params(known) {
+            self.warnings.push(format!(
+                "{} ({}): parameter {p} ignored",
+                card.display,
+                self.files.describe(card.loc)
+            ));
+        }
+    }
+
+    fn error(&self, loc: Loc, message: impl Into<String>) -> InputError {
+        self.files.error(loc, message)
+    }
+
+    fn node(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["NSET", "SYSTEM", "INPUT"]);
+        if let Some(s) = card.value("SYSTEM") {
+            if !s.eq_ignore_ascii_case("R") {
+                return Err(self.error(
+                    card.loc,
+                    format!(
+                        "*NODE, SYSTEM={s}: only rectangular coordinates (SYSTEM=R) are supported"
+                    ),
+                ));
+            }
+        }
+        if card.has("INPUT") {
+            return Err(self.error(
+                card.loc,
+                "*NODE, INPUT=...: not supported; use *INCLUDE, INPUT=... under *NODE",
+            ));
+        }
+        let set = card.value("NSET").map(name);
+        for line in &card.data {
+            let id = line.id(self.files, 0, "node number")?;
+            if line.fields.len() > 7 {
+                return Err(self.error(
+                    line.loc,
+                    format!(
+                        "node {id}: a *NODE line holds the number and at most 3 coordinates \
+                         (and 3 normal components); found {} fields",
+                        line.fields.len()
+                    ),
+                ));
+            }
+            let mut coords = [0.0; 3];
+            for (k, c) in coords.iter_mut().enumerate() {
+                *c = line.float_or(
+                    self.files,
+                    k + 1,
+                    &format!("node {id}: coordinate {}", k + 1),
+                    0.0,
+                )?;
+            }
+            if let Some(first) = self.node_loc.insert(id, line.loc) {
+                return Err(self.error(
+                    line.loc,
+                    format!(
+                        "node {id} is defined twice (first on {})",
+                        self.files.describe(first)
+                    ),
+                ));
+            }
+            self.nodes.push(Node { id, coords });
+            if let Some(set) = &set {
+                self.add_node_set_entries(set.clone(), [(id, line.loc)]);
+            }
+        }
+        Ok(())
+    }
+
+    fn element(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["TYPE", "ELSET", "INPUT"]);
+        if card.has("INPUT") {
+            return Err(self.error(
+                card.loc,
+                "*ELEMENT, INPUT=...: not supported; use *INCLUDE, INPUT=... under *ELEMENT",
+            ));
+        }
+        let type_name = card.require_name(self.files, "TYPE")?;
+        let kind = ElementType::parse(&type_name).ok_or_else(|| {
+            self.error(
+                card.loc,
+                format!(
+                    "element type {type_name} is not supported{} \
+                     (supported: C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6, B31, MASS, SPRINGA, SPRING1, SPRING2)",
+                    unsupported_type_hint(&type_name)
+                ),
+            )
+        })?;
+        let set = card.value("ELSET").map(name);
+        let needed = kind.node_count();
+        let mut lines = card.data.iter();
+        while let Some(first) = lines.next() {
+            let mut fields: Vec<&str> = first.fields.iter().map(String::as_str).collect();
+            let mut continued = first.continued;
+            // A line ending with a comma continues while nodes are missing.
+            while continued && fields.len() < needed + 1 {
+                let Some(next) = lines.next() else { break };
+                fields.extend(next.fields.iter().map(String::as_str));
+                continued = next.continued;
+            }
+            let id = first.id(self.files, 0, "element number")? as usize;
+            let mut nodes = Vec::with_capacity(fields.len().saturating_sub(1));
+            for (k, f) in fields.iter().enumerate().skip(1) {
+                let node = super::cards::parse_id(f).ok_or_else(|| {
+                    self.error(
+                        first.loc,
+                        format!(
+                            "element {id}: node {k} should be a positive node number, got '{f}'"
+                        ),
+                    )
+                })?;
+                nodes.push(node);
+            }
+            if nodes.len() != needed {
+                return Err(self.error(
+                    first.loc,
+                    format!(
+                        "element {id} has {} nodes, but type {} needs {needed}",
+                        nodes.len(),
+                        kind.name()
+                    ),
+                ));
+            }
+            if let Some(previous) = self.element_loc.insert(id, first.loc) {
+                return Err(self.error(
+                    first.loc,
+                    format!(
+                        "element {id} is defined twice (first on {})",
+                        self.files.describe(previous)
+                    ),
+                ));
+            }
+            self.elements.push(RawElement {
+                id,
+                kind,
+                nodes,
+                loc: first.loc,
+            });
+            if let Some(set) = &set {
+                self.add_element_set_entries(set.clone(), [(id, first.loc)]);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds entries to a node set, recording the order sets are defined in.
+    fn add_node_set_entries(
+        &mut self,
+        set: String,
+        entries: impl IntoIterator<Item = (NodeId, Loc)>,
+    ) {
+        if !self.node_sets.contains_key(&set) {
+            self.node_set_order.push(set.clone());
+        }
+        self.node_sets.entry(set).or_default().extend(entries);
+    }
+
+    fn add_element_set_entries(
+        &mut self,
+        set: String,
+        entries: impl IntoIterator<Item = (usize, Loc)>,
+    ) {
+        if !self.element_sets.contains_key(&set) {
+            self.element_set_order.push(set.clone());
+        }
+        self.element_sets.entry(set).or_default().extend(entries);
+    }
+
+    /// `first, last[, step]` of a `GENERATE` line.
+    fn generate(&self, line: &DataLine) -> Result<Vec<u64>, InputError> {
+        let first = line.id(self.files, 0, "GENERATE: first number")?;
+        let last = line.id(self.files, 1, "GENERATE: last number")?;
+        let step = match line.get(2) {
+            None => 1,
+            Some(_) => line.id(self.files, 2, "GENERATE: increment")?,
+        };
+        if last < first {
+            return Err(self.error(
+                line.loc,
+                format!("GENERATE: last number {last} is smaller than first number {first}"),
+            ));
+        }
+        let count = (last - first) / step + 1;
+        if count > MAX_GENERATED {
+            return Err(self.error(
+                line.loc,
+                format!("GENERATE: {count} numbers is more than the {MAX_GENERATED} accepted"),
+            ));
+        }
+        Ok((0..count).map(|i| first + i * step).collect())
+    }
+
+    /// Ids and set names of a `*NSET` or `*ELSET` card.
+    fn set_entries(
+        &self,
+        card: &Card,
+        what: &str,
+        lookup: impl Fn(&str) -> Option<Vec<(u64, Loc)>>,
+    ) -> Result<Vec<(u64, Loc)>, InputError> {
+        let mut entries = Vec::new();
+        let generate = card.has("GENERATE");
+        for line in &card.data {
+            if generate {
+                entries.extend(self.generate(line)?.into_iter().map(|id| (id, line.loc)));
+                continue;
+            }
+            for f in line.fields.iter().filter(|f| !f.is_empty()) {
+                if is_numeric(f) {
+                    let id = super::cards::parse_id(f).ok_or_else(|| {
+                        self.error(
+                            line.loc,
+                            format!(
+                                "{} should list positive {what} numbers or set names, got '{f}'",
+                                card.display
+                            ),
+                        )
+                    })?;
+                    entries.push((id, line.loc));
+                } else {
+                    let other = lookup(&name(f)).ok_or_else(|| {
+                        self.error(
+                            line.loc,
+                            format!(
+                                "{what} set '{}' is not defined (define it before it is used)",
+                                name(f)
+                            ),
+                        )
+                    })?;
+                    entries.extend(other);
+                }
+            }
+        }
+        Ok(entries)
+    }
+
+    fn nset(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(
+            card,
+            &["NSET", "GENERATE", "UNSORTED", "INTERNAL", "INSTANCE"],
+        );
+        if card.has("ELSET") {
+            return Err(self.error(
+                card.loc,
+                "*NSET, ELSET=...: not supported; list the nodes or node sets",
+            ));
+        }
+        let set = card.require_name(self.files, "NSET")?;
+        let entries = self.set_entries(card, "node", |n| self.node_sets.get(n).cloned())?;
+        self.add_node_set_entries(set, entries);
+        Ok(())
+    }
+
+    fn elset(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(
+            card,
+            &["ELSET", "GENERATE", "UNSORTED", "INTERNAL", "INSTANCE"],
+        );
+        let set = card.require_name(self.files, "ELSET")?;
+        let entries = self.set_entries(card, "element", |n| {
+            self.element_sets
+                .get(n)
+                .map(|v| v.iter().map(|(id, l)| (*id as u64, *l)).collect())
+        })?;
+        self.add_element_set_entries(set, entries.into_iter().map(|(id, l)| (id as usize, l)));
+        Ok(())
+    }
+
+    /// `node or NSET, first_dof[, last_dof[, value]]`, or `node, ENCASTRE`
+    /// and the other Abaqus type names.
+    fn boundary(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["OP", "AMPLITUDE", "TYPE", "FIXED", "LOADCASE"]);
+        for p in ["SUBMODEL", "USER", "MASSFLOW"] {
+            if card.has(p) {
+                return Err(self.error(card.loc, format!("*BOUNDARY, {p}: not supported")));
+            }
+        }
+        if let Some(t) = card.value("TYPE") {
+            if !t.eq_ignore_ascii_case("DISPLACEMENT") {
+                return Err(self.error(
+                    card.loc,
+                    format!(
+                        "*BOUNDARY, TYPE={t}: only displacement boundary conditions are supported"
+                    ),
+                ));
+            }
+        }
+        if self.in_step
+            && card
+                .value("OP")
+                .is_some_and(|v| v.eq_ignore_ascii_case("NEW"))
+        {
+            return Err(self.error(
+                card.loc,
+                "*BOUNDARY, OP=NEW in a step is not supported (it removes earlier boundary conditions)",
+            ));
+        }
+        for line in &card.data {
+            let target = line
+                .get(0)
+                .ok_or_else(|| self.error(line.loc, "*BOUNDARY: node or node set is missing"))?;
+            let nodes: Vec<NodeId> = if is_numeric(target) {
+                vec![line.id(self.files, 0, "*BOUNDARY: node number")?]
+            } else {
+                self.node_sets
+                    .get(&name(target))
+                    .ok_or_else(|| {
+                        self.error(
+                            line.loc,
+                            format!("*BOUNDARY: node set '{}' is not defined", name(target)),
+                        )
+                    })?
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect()
+            };
+            let kinds = self.boundary_dofs(line)?;
+            for n in nodes {
+                self.fixed
+                    .extend(kinds.iter().map(|k| (Dof::new(n, *k), line.loc)));
+            }
+        }
+        Ok(())
+    }
+
+    /// The DOFs of one `*BOUNDARY` data line (after the node).
+    fn boundary_dofs(&self, line: &DataLine) -> Result<Vec<DofKind>, InputError> {
+        let first = line
+            .get(1)
+            .ok_or_else(|| self.error(line.loc, "*BOUNDARY: first DOF is missing"))?;
+        if !is_numeric(first) {
+            let dofs: &[usize] = match name(first).as_str() {
+                "ENCASTRE" => &[1, 2, 3, 4, 5, 6],
+                "PINNED" => &[1, 2, 3],
+                "XSYMM" => &[1, 5, 6],
+                "YSYMM" => &[2, 4, 6],
+                "ZSYMM" => &[3, 4, 5],
+                "XASYMM" => &[2, 3, 4],
+                "YASYMM" => &[1, 3, 5],
+                "ZASYMM" => &[1, 2, 6],
+                other => {
+                    return Err(self.error(
+                        line.loc,
+                        format!("*BOUNDARY: unknown boundary type '{other}'"),
+                    ))
+                }
+            };
+            return Ok(dofs.iter().map(|d| DofKind::ALL[d - 1]).collect());
+        }
+        let a = line.id(self.files, 1, "*BOUNDARY: first DOF")?;
+        let b = match line.get(2) {
+            None => a,
+            Some(_) => line.id(self.files, 2, "*BOUNDARY: last DOF")?,
+        };
+        let value = line.float_or(self.files, 3, "*BOUNDARY: value", 0.0)?;
+        if value != 0.0 {
+            return Err(self.error(
+                line.loc,
+                format!("*BOUNDARY: prescribed displacement {value} is not supported (only fixed DOFs, value 0)"),
+            ));
+        }
+        if !(1..=6).contains(&a) || !(1..=6).contains(&b) || b < a {
+            return Err(self.error(
+                line.loc,
+                format!("*BOUNDARY: DOFs {a} to {b}: only DOFs 1 to 6 (ux uy uz rx ry rz), first <= last"),
+            ));
+        }
+        Ok((a..=b).map(|d| DofKind::ALL[d as usize - 1]).collect())
+    }
+
+    /// Abaqus assemblies: one instance of one part without a transformation
+    /// is the part itself.
+    fn instance(&mut self, card: &Card) -> Result<(), InputError> {
+        self.instances += 1;
+        if self.instances > 1 || !card.data.is_empty() {
+            return Err(self.error(
+                card.loc,
+                "*INSTANCE: only a single instance without translation or rotation is supported",
+            ));
+        }
+        self.warn_once(card, "");
+        Ok(())
+    }
+}

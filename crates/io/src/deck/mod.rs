@@ -1,0 +1,85 @@
+//! Abaqus/CalculiX input decks (`.inp`) read into a [`flexbody_fem::Model`].
+//!
+//! Syntax: keyword lines start with `*` (case-insensitive; spaces in the
+//! keyword ignored, so `*SOLID SECTION` = `*SOLIDSECTION`), parameters are
+//! `KEY=VALUE` separated by commas; `**` lines are comments; blank lines are
+//! skipped; data lines are comma-separated and may end with a comma. An
+//! element line ending with a comma continues on the next line while nodes
+//! are missing (C3D20). A keyword line ending with a comma continues on the
+//! next line if that starts with `KEY=`. `*INCLUDE, INPUT=file` is read in
+//! place, relative to the folder of the file that includes it. Set and
+//! material names are compared in upper case. Units: SI assumed (nothing is
+//! converted).
+//!
+//! What each keyword does:
+//!
+//! | keyword | reading |
+//! | --- | --- |
+//! | `*NODE` (`NSET=`) | `id, x, y, z`; missing coordinates are 0 |
+//! | `*ELEMENT, TYPE=, ELSET=` | C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2; any other type is an error |
+//! | `*NSET`, `*ELSET` | ids, names of sets defined before, or `GENERATE` (`first, last[, step]`) |
+//! | `*MATERIAL, NAME=` + `*ELASTIC` (isotropic `E, nu`) + `*DENSITY` | one data line each; other `TYPE=`s and temperature tables are errors; a material used without `*DENSITY` is an error (the mass matrix needs it) |
+//! | `*SOLID SECTION, ELSET=, MATERIAL=` | the data line is ignored; every solid needs one |
+//! | `*BEAM SECTION, ELSET=, MATERIAL=, SECTION=` | RECT `a, b`; CIRC `r`; PIPE `r, t` (outer radius, wall); BOX `a, b, t1..t4` (equal walls only); second line n1 = local y, default `(0, 0, -1)`; a along local 1 (y), b along local 2 (z) |
+//! | `*MASS, ELSET=` | mass (kg) of MASS elements |
+//! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
+//! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning |
+//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, `*SURFACE`, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped with a warning: they do not change K or M of the linear model |
+//! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*COUPLING`, `*KINEMATIC`, `*DISTRIBUTING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
+//! | unknown keywords | skipped with a warning |
+//!
+//! Errors name the file and line that is wrong (an included file's own line)
+//! and the element, node, set or material. The model is checked as a whole
+//! after reading: [`Model::new`](flexbody_fem::Model::new) (undefined nodes)
+//! and [`Element::validate`](flexbody_fem::Element::validate) (zero length,
+//! beam orientation, inverted or flat solids), each error at its element's
+//! line.
+
+mod build;
+mod cards;
+mod keywords;
+mod properties;
+#[cfg(test)]
+mod tests;
+
+use crate::InputError;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A model read from an Abaqus/CalculiX input deck.
+#[derive(Clone, Debug)]
+pub struct Deck {
+    pub path: PathBuf,
+    /// Nodes, elements, node sets (upper-case names) and fixed DOFs; no
+    /// damping.
+    pub model: flexbody_fem::Model,
+    /// Element sets (ELSET name -> element ids), upper-case names.
+    pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// Keywords that were ignored, with the line of first use: `"*STEP
+    /// (line 40)"`; also ignored parameters and ignored fixed DOFs.
+    pub warnings: Vec<String>,
+}
+
+/// Reads and checks a deck file.
+pub fn read_deck(path: &Path) -> Result<Deck, InputError> {
+    let bytes = std::fs::read(path).map_err(|source| InputError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_deck(path, &String::from_utf8_lossy(&bytes))
+}
+
+/// Parses and checks the text of a deck; `path` names it in errors and
+/// `*INCLUDE` files are found relative to its folder.
+pub fn parse_deck(path: &Path, text: &str) -> Result<Deck, InputError> {
+    let (files, cards) = cards::read_cards(path, text)?;
+    let mut reader = keywords::Reader::new(&files);
+    reader.read(&cards)?;
+    let built = build::build(reader)?;
+    Ok(Deck {
+        path: path.to_path_buf(),
+        model: built.model,
+        element_sets: built.element_sets,
+        warnings: built.warnings,
+    })
+}

@@ -1,0 +1,418 @@
+//! Materials (`*MATERIAL`, `*ELASTIC`, `*DENSITY`) and the keywords that give
+//! elements their properties (`*SOLID SECTION`, `*BEAM SECTION`, `*MASS`,
+//! `*SPRING`), as read; they are assigned to elements in `build.rs`.
+//!
+//! Beam sections follow CalculiX/Abaqus: local 1 is the n1 direction of the
+//! second data line (default `(0, 0, -1)`), local 2 is `t x n1`. flexbody's
+//! local y is n1 and local z is n2, so the first dimension (`a` of RECT and
+//! BOX) is the width along y and the second (`b`) the height along z.
+
+use super::cards::{Card, DataLine, Files, Loc};
+use super::keywords::{ElementType, Reader};
+use crate::InputError;
+use flexbody_fem::section::SectionConstants;
+use flexbody_fem::{DofKind, SectionShape};
+
+/// Default n1 direction of a beam section (CalculiX and Abaqus).
+const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
+
+/// A `*MATERIAL` block: isotropic elasticity `(E, nu)` and density, with the
+/// lines that gave them.
+#[derive(Clone, Debug)]
+pub(super) struct RawMaterial {
+    pub name: String,
+    pub loc: Loc,
+    pub elastic: Option<(f64, f64, Loc)>,
+    pub density: Option<(f64, Loc)>,
+}
+
+/// What a property keyword gives its elements.
+#[derive(Clone, Debug)]
+pub(super) enum SectionData {
+    Solid,
+    Beam {
+        constants: SectionConstants,
+        /// Local 1 direction (flexbody's local y).
+        n1: [f64; 3],
+    },
+    Mass(f64),
+    /// Data lines of `*SPRING`: their layout depends on the spring type.
+    Spring(Vec<DataLine>),
+}
+
+impl SectionData {
+    /// True if elements of type `t` take their properties from this.
+    pub fn accepts(&self, t: ElementType) -> bool {
+        matches!(
+            (self, t),
+            (SectionData::Solid, ElementType::Solid(_))
+                | (SectionData::Beam { .. }, ElementType::B31)
+                | (SectionData::Mass(_), ElementType::Mass)
+                | (
+                    SectionData::Spring(_),
+                    ElementType::SpringA | ElementType::Spring1 | ElementType::Spring2
+                )
+        )
+    }
+}
+
+/// A property keyword and the element set it applies to.
+#[derive(Clone, Debug)]
+pub(super) struct RawSection {
+    /// `"*SOLID SECTION"` etc., for messages.
+    pub keyword: String,
+    pub elset: String,
+    pub material: Option<String>,
+    pub data: SectionData,
+    pub loc: Loc,
+}
+
+/// A spring's DOFs (none for SPRINGA) and stiffness.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct SpringProperties {
+    pub first: Option<DofKind>,
+    pub second: Option<DofKind>,
+    pub stiffness: f64,
+}
+
+impl Reader<'_> {
+    pub(super) fn material(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["NAME"]);
+        let name = card.require_name(self.files, "NAME")?;
+        if let Some(m) = self.materials.iter().find(|m| m.name == name) {
+            return Err(self.files.error(
+                card.loc,
+                format!(
+                    "material '{name}' is defined twice (first on {})",
+                    self.files.describe(m.loc)
+                ),
+            ));
+        }
+        self.materials.push(RawMaterial {
+            name,
+            loc: card.loc,
+            elastic: None,
+            density: None,
+        });
+        self.current_material = Some(self.materials.len() - 1);
+        Ok(())
+    }
+
+    /// The single data line of a material option, and the material index.
+    fn material_option<'c>(&self, card: &'c Card) -> Result<(usize, &'c DataLine), InputError> {
+        let files = self.files;
+        let m = self.current_material.ok_or_else(|| {
+            files.error(
+                card.loc,
+                format!("{} must follow a *MATERIAL line", card.display),
+            )
+        })?;
+        let name = &self.materials[m].name;
+        match card.data.as_slice() {
+            [line] => Ok((m, line)),
+            [] => Err(files.error(
+                card.loc,
+                format!("{} of material '{name}' has no data line", card.display),
+            )),
+            [_, second, ..] => Err(files.error(
+                second.loc,
+                format!(
+                    "{} of material '{name}': temperature-dependent data is not supported \
+                     (give one data line)",
+                    card.display
+                ),
+            )),
+        }
+    }
+
+    pub(super) fn elastic(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["TYPE"]);
+        if let Some(t) = card.value("TYPE") {
+            if !matches!(t.to_uppercase().as_str(), "ISO" | "ISOTROPIC") {
+                return Err(self.files.error(
+                    card.loc,
+                    format!(
+                        "*ELASTIC, TYPE={t}: only isotropic elasticity (TYPE=ISO) is supported"
+                    ),
+                ));
+            }
+        }
+        let (m, line) = self.material_option(card)?;
+        let name = self.materials[m].name.clone();
+        let e = line.float(
+            self.files,
+            0,
+            &format!("material '{name}': Young's modulus"),
+        )?;
+        let nu = line.float(
+            self.files,
+            1,
+            &format!("material '{name}': Poisson's ratio"),
+        )?;
+        if self.materials[m].elastic.is_some() {
+            return Err(self.files.error(
+                card.loc,
+                format!("material '{name}' has two *ELASTIC cards"),
+            ));
+        }
+        self.materials[m].elastic = Some((e, nu, line.loc));
+        Ok(())
+    }
+
+    pub(super) fn density(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &[]);
+        let (m, line) = self.material_option(card)?;
+        let name = self.materials[m].name.clone();
+        let rho = line.float(self.files, 0, &format!("material '{name}': density"))?;
+        if self.materials[m].density.is_some() {
+            return Err(self.files.error(
+                card.loc,
+                format!("material '{name}' has two *DENSITY cards"),
+            ));
+        }
+        self.materials[m].density = Some((rho, line.loc));
+        Ok(())
+    }
+
+    fn push_section(
+        &mut self,
+        card: &Card,
+        material: Option<String>,
+        data: SectionData,
+    ) -> Result<(), InputError> {
+        let elset = card.require_name(self.files, "ELSET")?;
+        self.sections.push(RawSection {
+            keyword: card.display.clone(),
+            elset,
+            material,
+            data,
+            loc: card.loc,
+        });
+        Ok(())
+    }
+
+    pub(super) fn solid_section(&mut self, card: &Card) -> Result<(), InputError> {
+        // ORIENTATION only matters for anisotropic materials, which are
+        // refused; the data line (thickness of 2D elements) does not apply.
+        self.check_params(card, &["ELSET", "MATERIAL", "ORIENTATION", "CONTROLS"]);
+        let material = card.require_name(self.files, "MATERIAL")?;
+        self.push_section(card, Some(material), SectionData::Solid)
+    }
+
+    pub(super) fn beam_section(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(
+            card,
+            &[
+                "ELSET",
+                "MATERIAL",
+                "SECTION",
+                "ORIENTATION",
+                "OFFSET1",
+                "OFFSET2",
+                "POISSON",
+                "TEMPERATURE",
+            ],
+        );
+        let files = self.files;
+        if card.has("NODALTHICKNESS") {
+            return Err(files.error(
+                card.loc,
+                "*BEAM SECTION, NODAL THICKNESS: not supported (give the dimensions)",
+            ));
+        }
+        for key in ["OFFSET1", "OFFSET2"] {
+            if let Some(v) = card.value(key) {
+                if super::cards::parse_float(v) != Some(0.0) {
+                    return Err(files.error(
+                        card.loc,
+                        format!("*BEAM SECTION, {key}={v}: offset sections are not supported"),
+                    ));
+                }
+            }
+        }
+        let material = card.require_name(files, "MATERIAL")?;
+        let kind = card.require_name(files, "SECTION")?;
+        let dims = card.data.first().ok_or_else(|| {
+            files.error(
+                card.loc,
+                "*BEAM SECTION needs a data line with the section dimensions",
+            )
+        })?;
+        let shape = beam_shape(files, &kind, dims, card.loc)?;
+        let constants = shape
+            .constants()
+            .map_err(|e| files.error(dims.loc, format!("*BEAM SECTION, SECTION={kind}: {e}")))?;
+        let n1 = match card.data.get(1) {
+            None => DEFAULT_N1,
+            Some(line) => {
+                let mut v = [0.0; 3];
+                for (k, c) in v.iter_mut().enumerate() {
+                    *c = line.float_or(
+                        files,
+                        k,
+                        &format!("*BEAM SECTION: n1 component {}", k + 1),
+                        0.0,
+                    )?;
+                }
+                if v.iter().map(|c| c * c).sum::<f64>().sqrt() < 1e-10 {
+                    return Err(files.error(
+                        line.loc,
+                        "*BEAM SECTION: the n1 direction (local 1 axis) is a zero vector",
+                    ));
+                }
+                v
+            }
+        };
+        self.push_section(card, Some(material), SectionData::Beam { constants, n1 })
+    }
+
+    pub(super) fn mass(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["ELSET"]);
+        let line = card.data.first().ok_or_else(|| {
+            self.files
+                .error(card.loc, "*MASS needs a data line with the mass (kg)")
+        })?;
+        let mass = line.float(self.files, 0, "*MASS: mass")?;
+        flexbody_fem::require_non_negative("*MASS: mass (kg)", mass)
+            .map_err(|e| self.files.error(line.loc, e.to_string()))?;
+        self.push_section(card, None, SectionData::Mass(mass))
+    }
+
+    pub(super) fn spring(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["ELSET"]);
+        if card.has("NONLINEAR") {
+            return Err(self.files.error(
+                card.loc,
+                "*SPRING, NONLINEAR: not supported (give a linear stiffness)",
+            ));
+        }
+        if card.has("ORIENTATION") {
+            return Err(self.files.error(
+                card.loc,
+                "*SPRING, ORIENTATION: not supported; ignoring it would change the \
+                 stiffness matrix (spring DOFs in local directions)",
+            ));
+        }
+        self.push_section(card, None, SectionData::Spring(card.data.clone()))
+    }
+}
+
+/// The cross-section of `*BEAM SECTION, SECTION=kind` from its first data line.
+fn beam_shape(
+    files: &Files,
+    kind: &str,
+    dims: &DataLine,
+    card_loc: Loc,
+) -> Result<SectionShape, InputError> {
+    let dim = |i: usize, what: &str| {
+        dims.float(files, i, &format!("*BEAM SECTION, SECTION={kind}: {what}"))
+    };
+    Ok(match kind {
+        "RECT" => SectionShape::Rect {
+            width: dim(0, "a (along local 1)")?,
+            height: dim(1, "b (along local 2)")?,
+        },
+        "CIRC" => {
+            let r = dim(0, "radius")?;
+            let r2 = dims.float_or(files, 1, "*BEAM SECTION, SECTION=CIRC: second radius", r)?;
+            if r2 != r {
+                return Err(files.error(
+                    dims.loc,
+                    format!("*BEAM SECTION, SECTION=CIRC: radii {r} and {r2} differ; elliptical sections are not supported"),
+                ));
+            }
+            SectionShape::Circ { radius: r }
+        }
+        "PIPE" => SectionShape::Pipe {
+            radius: dim(0, "outer radius")?,
+            wall: dim(1, "wall thickness")?,
+        },
+        "BOX" => {
+            let a = dim(0, "a (along local 1)")?;
+            let b = dim(1, "b (along local 2)")?;
+            let walls = [dim(2, "t1")?, dim(3, "t2")?, dim(4, "t3")?, dim(5, "t4")?];
+            let t = walls[0];
+            if walls.iter().any(|w| (w - t).abs() > 1e-12 * t.abs()) {
+                return Err(files.error(
+                    dims.loc,
+                    format!("*BEAM SECTION, SECTION=BOX: walls {walls:?} differ; only equal walls are supported"),
+                ));
+            }
+            SectionShape::Box {
+                width: a,
+                height: b,
+                wall: t,
+            }
+        }
+        other => {
+            return Err(files.error(
+                card_loc,
+                format!(
+                "*BEAM SECTION, SECTION={other}: not supported (supported: RECT, CIRC, PIPE, BOX)"
+            ),
+            ))
+        }
+    })
+}
+
+/// Reads the `*SPRING` data lines (`card_loc`: the `*SPRING` line) for
+/// springs of type `kind`:
+/// SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs,
+/// then stiffness (CalculiX manual, `*SPRING`; the blank first line of
+/// SPRINGA is dropped with the other blank lines).
+pub(super) fn spring_properties(
+    files: &Files,
+    card_loc: Loc,
+    lines: &[DataLine],
+    kind: ElementType,
+) -> Result<SpringProperties, InputError> {
+    let dof_count = match kind {
+        ElementType::Spring1 => 1,
+        ElementType::Spring2 => 2,
+        _ => 0,
+    };
+    let expected = if dof_count == 0 { 1 } else { 2 };
+    let layout = match dof_count {
+        0 => "for SPRINGA: one line with the stiffness",
+        1 => "for SPRING1: a line with the DOF (1-6), then a line with the stiffness",
+        _ => "for SPRING2: a line with the two DOFs (1-6), then a line with the stiffness",
+    };
+    if lines.len() != expected {
+        let loc = lines.get(expected).map_or(card_loc, |l| l.loc);
+        return Err(files.error(
+            loc,
+            format!(
+                "*SPRING: {} data lines, expected {expected} ({layout}; \
+                 temperature-dependent springs are not supported)",
+                lines.len()
+            ),
+        ));
+    }
+    let mut dofs = [None, None];
+    if dof_count > 0 {
+        let line = &lines[0];
+        let given = line.fields.iter().filter(|f| !f.is_empty()).count();
+        if given != dof_count {
+            return Err(files.error(line.loc, format!("*SPRING: expected {layout}")));
+        }
+        for (k, d) in dofs.iter_mut().take(dof_count).enumerate() {
+            let dof = line.id(files, k, "*SPRING: DOF")?;
+            if !(1..=6).contains(&dof) {
+                return Err(files.error(
+                    line.loc,
+                    format!("*SPRING: DOF {dof}: only DOFs 1 to 6 (ux uy uz rx ry rz)"),
+                ));
+            }
+            *d = Some(DofKind::ALL[dof as usize - 1]);
+        }
+    }
+    let line = &lines[expected - 1];
+    let stiffness = line.float(files, 0, "*SPRING: stiffness")?;
+    flexbody_fem::require_positive("*SPRING: stiffness", stiffness)
+        .map_err(|e| files.error(line.loc, e.to_string()))?;
+    Ok(SpringProperties {
+        first: dofs[0],
+        second: dofs[1],
+        stiffness,
+    })
+}
