@@ -253,3 +253,40 @@ fn bad_simulation_input_is_named() {
         &["track.csv:4:", "expected two numbers"],
     );
 }
+
+#[test]
+fn simulate_writes_histories_and_plots() {
+    let dir = std::env::temp_dir().join(format!("flexbody-simulate-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
+        .args([
+            "simulate",
+            vehicle_path().to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("histories.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for column in [
+        "time (s)",
+        "car_body.uz (m)",
+        "node 11 uz (m)",
+        "bump_stop (N)",
+        "element 10 end My (N m)",
+    ] {
+        assert!(header.contains(column), "{column} in {header}");
+    }
+    assert_eq!(csv.lines().count(), 6002, "header + 6001 states");
+    assert!(!csv.contains("NaN") && !csv.contains("inf"));
+    for svg in ["connections.svg", "histories.svg"] {
+        assert!(std::fs::read_to_string(dir.join(svg))
+            .unwrap()
+            .contains("<svg"));
+    }
+}

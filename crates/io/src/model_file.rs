@@ -1086,7 +1086,10 @@ impl Context<'_> {
                     phase: h.phase,
                 },
                 (None, Some(rows)) => {
-                    if rows.windows(2).any(|w| !(w[1][0] > w[0][0])) {
+                    if rows
+                        .windows(2)
+                        .any(|w| w[1][0].partial_cmp(&w[0][0]) != Some(std::cmp::Ordering::Greater))
+                    {
                         return Err(self.at(f, format!("{what}: table times must ascend")));
                     }
                     History::Table(rows.clone())

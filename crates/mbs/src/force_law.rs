@@ -121,7 +121,10 @@ impl ForceLaw {
                 if points.len() < 2 {
                     return Err("a piecewise-linear law needs at least two points".into());
                 }
-                if let Some(w) = points.windows(2).find(|w| !(w[1][0] > w[0][0])) {
+                if let Some(w) = points
+                    .windows(2)
+                    .find(|w| w[1][0].partial_cmp(&w[0][0]) != Some(std::cmp::Ordering::Greater))
+                {
                     return Err(format!(
                         "points must have ascending elongations; {} does not follow {}",
                         w[1][0], w[0][0]
