@@ -24,6 +24,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod input;
 pub mod plot;
 pub mod simulate;
 pub mod study;

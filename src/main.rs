@@ -6,7 +6,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use flexbody::reduce::{reduce, Method, Reduction};
-use flexbody::{export, fem, io, plot, reduce as red, simulate, study};
+use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -40,8 +40,14 @@ enum Command {
     },
     /// Reduce a model and write the reduced body (JSON).
     Reduce {
-        /// Model file (TOML).
+        /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
         model: PathBuf,
+        /// Interface: comma-separated node sets or node numbers (all DOFs of
+        /// each node). Default: the model file's interface.
+        #[arg(long)]
+        interface: Option<String>,
+        #[command(flatten)]
+        matrices: MatrixArgs,
         /// Reduction method.
         #[arg(long, value_parser = parse_method)]
         method: Method,
@@ -80,10 +86,19 @@ enum Command {
         #[arg(long)]
         full: bool,
     },
+    /// Read and assemble a model; print its size, mass, and the time and memory it took.
+    Info {
+        /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
+        model: PathBuf,
+        #[command(flatten)]
+        matrices: MatrixArgs,
+    },
     /// Natural frequencies of a model (free, or with its boundary conditions).
     Modes {
-        /// Model file (TOML).
+        /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
         model: PathBuf,
+        #[command(flatten)]
+        matrices: MatrixArgs,
         /// Number of modes, lowest first.
         #[arg(long, default_value_t = 10)]
         count: usize,
@@ -91,6 +106,26 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+/// Extra files for Matrix Market input.
+#[derive(clap::Args)]
+struct MatrixArgs {
+    /// Matrix Market mass matrix (with a .mtx stiffness).
+    #[arg(long)]
+    mass: Option<PathBuf>,
+    /// DOF map of the matrices: one `node dof` line per equation (with a .mtx stiffness).
+    #[arg(long)]
+    dofs: Option<PathBuf>,
+}
+
+impl MatrixArgs {
+    fn files(&self) -> input::MatrixFiles {
+        input::MatrixFiles {
+            mass: self.mass.clone(),
+            dofs: self.dofs.clone(),
+        }
+    }
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
@@ -123,13 +158,30 @@ fn run(cli: Cli) -> Result<()> {
         } => run_study(&model, json, out, no_plots),
         Command::Reduce {
             model,
+            interface,
+            matrices,
             method,
             modes,
             out,
             orthonormalize,
             json,
-        } => run_reduce(&model, method, modes, &out, orthonormalize, json),
-        Command::Modes { model, count, json } => run_modes(&model, count, json),
+        } => run_reduce(
+            &model,
+            interface.as_deref(),
+            &matrices,
+            method,
+            modes,
+            &out,
+            orthonormalize,
+            json,
+        ),
+        Command::Modes {
+            model,
+            matrices,
+            count,
+            json,
+        } => run_modes(&model, &matrices, count, json),
+        Command::Info { model, matrices } => run_info(&model, &matrices),
         Command::Simulate { model, out, full } => run_simulate(&model, &out, full),
         Command::Frf { model, out, full } => run_frf(&model, &out, full),
     }
@@ -210,26 +262,38 @@ fn fmt_omega(omega: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+/// Loads any input, printing a deck's ignored keywords on stderr.
+fn load(model: &Path, matrices: &MatrixArgs) -> Result<input::Component> {
+    let c = input::load(model, &matrices.files())?;
+    for w in &c.warnings {
+        eprintln!("warning: {}: ignored {w}", model.display());
+    }
+    Ok(c)
+}
+
+#[allow(clippy::too_many_arguments)]
 fn run_reduce(
     model: &Path,
+    interface: Option<&str>,
+    matrices: &MatrixArgs,
     method: Method,
     modes: usize,
     out: &Path,
     orthonormalize: bool,
     json: bool,
 ) -> Result<()> {
-    let file = io::read_model_file(model)?;
-    let sub = fem::Substructure::from_model(&file.model)?;
-    let matrices = &sub.matrices;
-    let mut spec = Reduction::new(method, modes, file.interface.clone());
-    spec.support = file.support.clone();
-    spec.springs = file.ground_springs();
+    let c = load(model, matrices)?;
+    let mut spec = Reduction::new(method, modes, c.interface(interface)?);
+    if let Some(file) = &c.file {
+        spec.support = file.support.clone();
+        spec.springs = file.ground_springs();
+    }
     spec.orthonormalize = orthonormalize;
-    let body = reduce(&sub, &spec)?;
+    let body = reduce(&c.sub, &spec)?;
     let reduced_hz = body.frequencies_hz()?;
-    let count = body.r().min(file.model.dof_map().len());
-    let full_hz =
-        red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count)?.frequencies_hz();
+    let count = body.r().min(c.sub.len());
+    let full_hz = red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
+        .frequencies_hz();
     export::write_json(&body, out)?;
     if json {
         let doc =
@@ -250,10 +314,10 @@ fn run_reduce(
     Ok(())
 }
 
-fn run_modes(model: &Path, count: usize, json: bool) -> Result<()> {
-    let file = io::read_model_file(model)?;
-    let matrices = fem::assemble(&file.model)?;
-    let n = file.model.dof_map().len();
+fn run_modes(model: &Path, matrices: &MatrixArgs, count: usize, json: bool) -> Result<()> {
+    let c = load(model, matrices)?;
+    let matrices = &c.sub.matrices;
+    let n = c.sub.len();
     let modes = red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count.min(n))?;
     // ||K phi - lambda M phi|| / ||K phi||; for rigid-body modes, whose K phi
     // is itself round-off, relative to ||K|| ||phi|| instead.
@@ -286,6 +350,66 @@ fn run_modes(model: &Path, count: usize, json: bool) -> Result<()> {
         println!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
     }
     Ok(())
+}
+
+fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
+    let start = std::time::Instant::now();
+    let c = load(model, matrices)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let map = &c.sub.dof_map;
+    // Mass from a unit translation along each axis: t^T M t.
+    let mass_along = |kind: fem::DofKind| {
+        let t: Vec<f64> = map
+            .dofs()
+            .iter()
+            .map(|d| (d.kind == kind) as u8 as f64)
+            .collect();
+        let m = &c.sub.matrices.mass;
+        let r = m.as_ref();
+        (0..map.len())
+            .map(|j| {
+                r.row_idx_of_col(j)
+                    .zip(r.val_of_col(j))
+                    .map(|(i, v)| t[i] * v * t[j])
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+    };
+    println!("{}", c.path.display());
+    if let Some(m) = &c.model {
+        println!("nodes {}, elements {}", m.nodes().len(), m.elements().len());
+    } else {
+        println!("matrices only (no mesh: element stresses and section forces need the mesh)");
+    }
+    println!(
+        "DOFs {}, nonzeros of K {}",
+        map.len(),
+        c.sub.matrices.stiffness.compute_nnz()
+    );
+    let masses: Vec<String> = [fem::DofKind::Ux, fem::DofKind::Uy, fem::DofKind::Uz]
+        .iter()
+        .map(|k| format!("{:.6e}", mass_along(*k)))
+        .collect();
+    println!("mass along x, y, z (kg): {}", masses.join(", "));
+    println!(
+        "read and assembled in {seconds:.3} s; peak memory {}",
+        peak_memory()
+    );
+    Ok(())
+}
+
+/// Peak resident memory of this process (Linux), or "unknown".
+fn peak_memory() -> String {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or("unknown".into(), |kb| {
+            format!("{:.3} GB", kb / 1024.0 / 1024.0)
+        })
 }
 
 /// The model file, its substructure and the body a simulation uses.

@@ -1,6 +1,8 @@
 //! Input files of flexbody.
 //!
-//! [`model_file`] reads the project's TOML model files: the FE model (nodes,
+//! [`deck`] reads Abaqus/CalculiX input decks (`.inp`); [`matrices`] reads
+//! FE matrices written by other programs (CalculiX `.sti`/`.mas`/`.dof`,
+//! Matrix Market). [`model_file`] reads the project's TOML model files: the FE model (nodes,
 //! beam lines, elements, sets, boundary conditions, damping), the interface,
 //! the MBS around the body (rigid bodies, connections, track) and the study
 //! cases. Units are SI throughout (m, kg, s, N, Pa, rad, rad/s). Every error
@@ -10,6 +12,7 @@ pub mod deck;
 pub mod matrices;
 pub mod model_file;
 
+pub use deck::{parse_deck, read_deck, Deck};
 pub use model_file::{
     parse_model_file, read_model_file, read_profile, BodySource, CaseSpec, FrfSpec, ModelFile,
     SimulationSpec, StudySpec,

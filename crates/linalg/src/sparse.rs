@@ -2,7 +2,7 @@
 //! sparse-times-dense products, and conversion to dense for small problems.
 
 use crate::{LinalgError, SparseMat};
-use faer::sparse::Triplet;
+pub use faer::sparse::Triplet;
 use faer::{Mat, MatRef};
 
 /// Builds an `nrows x ncols` sparse matrix, summing duplicate entries.

@@ -1,0 +1,331 @@
+#!/usr/bin/env python3
+"""CalculiX fixtures for flexbody's cross-check (tests/flexbody/calculix.rs).
+
+    calculix_fixtures.py generate OUT_DIR       write decks, run ccx, keep the results
+    calculix_fixtures.py compare STORED FRESH   compare two fixture folders numerically
+
+Each fixture OUT_DIR/<name>/ holds
+  <name>.inp         the deck: mesh, steel, and two steps, *FREQUENCY with a
+                     mode count, then *FREQUENCY, SOLVER=MATRIXSTORAGE;
+  <name>.sti/.mas    stiffness K and mass M as `row col value` (1-based, upper
+                     triangle) and <name>.dof (`node.direction` per equation),
+                     written by the MATRIXSTORAGE step;
+  frequencies.txt    the lowest natural frequencies in Hz, one per line, as
+                     ccx prints them in <name>.dat (8 significant digits).
+
+SI units: m, kg, s, N, Pa. Steel: E = 2.1e11 Pa, nu = 0.3, rho = 7850 kg/m^3.
+Element node numbering is that of Abaqus/CalculiX. ccx runs single-threaded
+(`OMP_NUM_THREADS=1 ccx -i <name>` in a temporary folder), which makes its
+output repeat exactly. Only python3's standard library is used.
+"""
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+YOUNGS_MODULUS = 2.1e11
+POISSON_RATIO = 0.3
+DENSITY = 7850.0
+
+# Corner offsets of a hexahedron in Abaqus/CalculiX order (face z = 0
+# counter-clockwise seen from +z, then face z = 1).
+HEX_CORNERS = [
+    (0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
+    (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1),
+]
+# Mid-side nodes 9..20 of C3D20/C3D20R: the edges between these corners.
+HEX20_EDGES = [
+    (0, 1), (1, 2), (2, 3), (3, 0),
+    (4, 5), (5, 6), (6, 7), (7, 4),
+    (0, 4), (1, 5), (2, 6), (3, 7),
+]
+# Mid-side nodes 5..10 of C3D10.
+TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+# Freudenthal (Kuhn) split of the unit cube into 6 tetrahedra along the
+# diagonal 0-6; the same split in every cube of a grid is conforming.
+KUHN_TETS = [
+    (0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6),
+    (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6),
+]
+# Two wedges per hexahedron, cut along the diagonal 0-2 of the z faces.
+HEX_WEDGES = [(0, 1, 2, 4, 5, 6), (0, 2, 3, 4, 6, 7)]
+
+
+class Mesh:
+    """Nodes on a lattice of spacing (lx/nx, ly/ny, lz/nz) / 2, so that
+    corner and mid-side nodes share one numbering: id = lattice index + 1."""
+
+    def __init__(self, n, size):
+        self.n = n
+        self.size = size
+        self.used = {}
+
+    def node(self, i, j, k):
+        """Node id of lattice point (i, j, k), in half-element steps."""
+        nx, ny, nz = (2 * m + 1 for m in self.n)
+        node_id = 1 + i + nx * (j + ny * k)
+        self.used[node_id] = (i, j, k)
+        return node_id
+
+    def coordinates(self, node_id):
+        ijk = self.used[node_id]
+        return tuple(round(c * s / (2 * m), 12) for c, s, m in zip(ijk, self.size, self.n))
+
+    def cells(self):
+        nx, ny, nz = self.n
+        for k in range(nz):
+            for j in range(ny):
+                for i in range(nx):
+                    yield i, j, k
+
+
+def corner(cell, offset):
+    return tuple(2 * c + o * 2 for c, o in zip(cell, offset))
+
+
+def midpoint(a, b):
+    return tuple((x + y) // 2 for x, y in zip(a, b))
+
+
+def signed_volume(mesh, ids):
+    p = [mesh.coordinates(n) for n in ids[:4]]
+    a = [p[1][d] - p[0][d] for d in range(3)]
+    b = [p[2][d] - p[0][d] for d in range(3)]
+    c = [p[3][d] - p[0][d] for d in range(3)]
+    return (a[0] * (b[1] * c[2] - b[2] * c[1])
+            - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0]))
+
+
+def hex_elements(mesh, quadratic):
+    elements = []
+    for cell in mesh.cells():
+        points = [corner(cell, o) for o in HEX_CORNERS]
+        if quadratic:
+            points += [midpoint(points[a], points[b]) for a, b in HEX20_EDGES]
+        elements.append([mesh.node(*p) for p in points])
+    return elements
+
+
+def tet_elements(mesh, quadratic):
+    elements = []
+    for cell in mesh.cells():
+        cube = [corner(cell, o) for o in HEX_CORNERS]
+        for tet in KUHN_TETS:
+            points = [cube[c] for c in tet]
+            ids = [mesh.node(*p) for p in points]
+            if signed_volume(mesh, ids) < 0.0:
+                points[1], points[2] = points[2], points[1]
+            if quadratic:
+                points += [midpoint(points[a], points[b]) for a, b in TET10_EDGES]
+            elements.append([mesh.node(*p) for p in points])
+    return elements
+
+
+def wedge_elements(mesh):
+    elements = []
+    for cell in mesh.cells():
+        cube = [corner(cell, o) for o in HEX_CORNERS]
+        for wedge in HEX_WEDGES:
+            elements.append([mesh.node(*cube[c]) for c in wedge])
+    return elements
+
+
+# name: (element type, elements per direction, size in m, generator, clamped
+# face x = 0, requested frequencies). ccx's ARPACK (ncv = 5 x requested, tol
+# 1e-2, shift 1 rad^2/s^2) returns spurious modes of free bodies when ncv
+# comes close to the number of equations: keep 5 x requested below ~0.6 N.
+# tests/flexbody/calculix.rs checks the stored frequencies against a dense
+# solve of the stored K and M.
+#
+# The C3D20R plate has two elements across its width: with one element across
+# both width and thickness (2 x 1 x 1), the 2x2x2 rule leaves hourglass modes
+# in K that are also null vectors of M (integrated with the same rule), so
+# K - sigma M is singular for every shift.
+FIXTURES = {
+    "hex_beam": ("C3D8", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: hex_elements(m, False), False, 10),
+    "hex20_beam": ("C3D20", (2, 1, 1), (0.4, 0.1, 0.1), lambda m: hex_elements(m, True), False, 12),
+    "plate_c3d20r": ("C3D20R", (2, 2, 1), (0.2, 0.2, 0.02), lambda m: hex_elements(m, True), True, 10),
+    "tet_beam": ("C3D10", (1, 1, 1), (0.2, 0.1, 0.1), lambda m: tet_elements(m, True), False, 10),
+    "tet4_beam": ("C3D4", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: tet_elements(m, False), False, 10),
+    "wedge_block": ("C3D6", (2, 2, 2), (0.2, 0.2, 0.2), wedge_elements, False, 10),
+}
+
+
+def deck(name):
+    kind, n, size, generate, clamped, count = FIXTURES[name]
+    mesh = Mesh(n, size)
+    elements = generate(mesh)
+    lines = [
+        f"** {name}: {len(elements)} {kind} elements, {size[0]} x {size[1]} x {size[2]} m, steel, SI units.",
+        "** Generated by scripts/calculix_fixtures.sh; do not edit.",
+        "*NODE",
+    ]
+    for node_id in sorted(mesh.used):
+        x, y, z = mesh.coordinates(node_id)
+        lines.append(f"{node_id}, {x!r}, {y!r}, {z!r}")
+    lines.append(f"*ELEMENT, TYPE={kind}, ELSET=EALL")
+    for number, ids in enumerate(elements, start=1):
+        fields = [str(number)] + [str(i) for i in ids]
+        # At most 16 entries per line: continue longer elements on the next line.
+        lines.append(", ".join(fields[:16]) + ("," if len(fields) > 16 else ""))
+        if len(fields) > 16:
+            lines.append(", ".join(fields[16:]))
+    if clamped:
+        lines.append("*NSET, NSET=CLAMPED")
+        fixed = sorted(i for i, ijk in mesh.used.items() if ijk[0] == 0)
+        for start in range(0, len(fixed), 16):
+            lines.append(", ".join(str(i) for i in fixed[start:start + 16]))
+    lines += [
+        "*MATERIAL, NAME=STEEL",
+        "*ELASTIC",
+        f"{YOUNGS_MODULUS!r}, {POISSON_RATIO!r}",
+        "*DENSITY",
+        f"{DENSITY!r}",
+        "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL",
+    ]
+    if clamped:
+        lines += ["*BOUNDARY", "CLAMPED, 1, 3"]
+    lines += [
+        "*STEP",
+        "*FREQUENCY",
+        f"{count}",
+        "*END STEP",
+        "*STEP",
+        "*FREQUENCY, SOLVER=MATRIXSTORAGE",
+        "*END STEP",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def frequencies_from_dat(path):
+    """Frequencies (cycles/time) of the first eigenvalue table of a .dat file."""
+    with open(path) as f:
+        text = f.read()
+    start = text.find("E I G E N V A L U E   O U T P U T")
+    if start < 0:
+        raise SystemExit(f"{path}: no eigenvalue output")
+    values = []
+    for line in text[start:].splitlines()[1:]:
+        fields = line.split()
+        if not fields:
+            if values:
+                break
+            continue
+        if re.fullmatch(r"\d+", fields[0]) and len(fields) == 5:
+            values.append(fields[3])
+        elif values:
+            break
+    if not values:
+        raise SystemExit(f"{path}: empty eigenvalue table")
+    return values
+
+
+def run_ccx(directory, name):
+    # One thread: with two, SPOOLES's threaded factorisation changes the
+    # round-off from run to run, and ARPACK's frequencies (tol 1e-2) move by
+    # ~5e-7. Single-threaded runs of the same ccx build repeat exactly.
+    single = {v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBER_OF_CPUS",
+                               "CCX_NPROC_EQUATION_SOLVER", "CCX_NPROC_STIFFNESS", "CCX_NPROC_RESULTS")}
+    env = dict(os.environ, **single)
+    log_path = os.path.join(directory, "ccx.log")
+    with open(log_path, "w") as log:
+        result = subprocess.run(["ccx", "-i", name], cwd=directory, env=env,
+                                stdout=log, stderr=subprocess.STDOUT)
+    with open(log_path) as f:
+        log_text = f.read()
+    if result.returncode != 0 or "*ERROR" in log_text:
+        raise SystemExit(f"ccx failed on {directory}/{name}.inp (status {result.returncode}):\n{log_text}")
+
+
+def generate(out_dir):
+    for name in FIXTURES:
+        with tempfile.TemporaryDirectory(prefix=f"ccx_{name}_") as work:
+            with open(os.path.join(work, f"{name}.inp"), "w") as f:
+                f.write(deck(name))
+            run_ccx(work, name)
+            target = os.path.join(out_dir, name)
+            os.makedirs(target, exist_ok=True)
+            for ext in ("inp", "sti", "mas", "dof"):
+                shutil.copyfile(os.path.join(work, f"{name}.{ext}"), os.path.join(target, f"{name}.{ext}"))
+            freqs = frequencies_from_dat(os.path.join(work, f"{name}.dat"))
+            with open(os.path.join(target, "frequencies.txt"), "w") as f:
+                f.write("\n".join(freqs) + "\n")
+
+
+def read_matrix(path):
+    entries = []
+    with open(path) as f:
+        for number, line in enumerate(f, start=1):
+            fields = line.split()
+            if len(fields) != 3:
+                raise SystemExit(f"{path}:{number}: expected `row col value`")
+            entries.append((int(fields[0]), int(fields[1]), float(fields[2])))
+    return entries
+
+
+def compare(stored_dir, fresh_dir):
+    problems = []
+    for name in FIXTURES:
+        stored = os.path.join(stored_dir, name)
+        fresh = os.path.join(fresh_dir, name)
+        if not os.path.isdir(stored):
+            problems.append(f"{name}: stored fixture {stored} is missing (run `scripts/calculix_fixtures.sh write`)")
+            continue
+        for ext in ("inp", "dof"):
+            with open(os.path.join(stored, f"{name}.{ext}")) as a, open(os.path.join(fresh, f"{name}.{ext}")) as b:
+                if a.read().split() != b.read().split():
+                    problems.append(f"{name}/{name}.{ext}: differs from a fresh run")
+        for ext in ("sti", "mas"):
+            a = read_matrix(os.path.join(stored, f"{name}.{ext}"))
+            b = read_matrix(os.path.join(fresh, f"{name}.{ext}"))
+            if [e[:2] for e in a] != [e[:2] for e in b]:
+                line = next((i for i, (x, y) in enumerate(zip(a, b), start=1) if x[:2] != y[:2]),
+                            min(len(a), len(b)) + 1)
+                problems.append(f"{name}/{name}.{ext}: indices differ from a fresh run from line {line} on "
+                                f"({len(a)} entries stored, {len(b)} fresh)")
+                continue
+            scale = max(abs(e[2]) for e in a + b) or 1.0
+            worst = max(((abs(x[2] - y[2]) / scale, x, y) for x, y in zip(a, b)), default=(0.0, None, None))
+            if worst[0] > 1e-12:
+                _, x, y = worst
+                problems.append(f"{name}/{name}.{ext}: entry ({x[0]}, {x[1]}) is {x[2]!r} stored, {y[2]!r} fresh "
+                                f"(difference {worst[0]:.2e} of the largest entry; allowed 1e-12)")
+        with open(os.path.join(stored, "frequencies.txt")) as a, open(os.path.join(fresh, "frequencies.txt")) as b:
+            fa = [float(v) for v in a.read().split()]
+            fb = [float(v) for v in b.read().split()]
+        if len(fa) != len(fb):
+            problems.append(f"{name}/frequencies.txt: {len(fa)} frequencies stored, {len(fb)} fresh")
+        else:
+            # Rigid-body frequencies are round-off: compare them on the scale of the largest.
+            floor = 1e-6 * max(fa + fb, default=0.0)
+            for i, (x, y) in enumerate(zip(fa, fb), start=1):
+                if abs(x - y) > 1e-9 * max(abs(x), abs(y)) and max(abs(x), abs(y)) > floor:
+                    problems.append(f"{name}/frequencies.txt: mode {i} is {x!r} Hz stored, {y!r} Hz fresh")
+    return problems
+
+
+def main(argv):
+    if len(argv) == 3 and argv[1] == "generate":
+        generate(argv[2])
+    elif len(argv) == 4 and argv[1] == "compare":
+        problems = compare(argv[2], argv[3])
+        if problems:
+            print("CalculiX fixtures differ from a fresh ccx run:", file=sys.stderr)
+            for p in problems:
+                print(f"  {p}", file=sys.stderr)
+            print("If the change is intended, run `scripts/calculix_fixtures.sh write` and review the diff.",
+                  file=sys.stderr)
+            return 1
+        print(f"CalculiX fixtures agree with a fresh ccx run ({len(FIXTURES)} decks)")
+    else:
+        print(__doc__, file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

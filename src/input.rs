@@ -1,0 +1,164 @@
+//! Loading a component from any input flexbody reads, by file type:
+//! a model file (`.toml`), an Abaqus/CalculiX deck (`.inp`), CalculiX's
+//! matrix output (`job.sti` with `job.mas` and `job.dof` beside it), or
+//! Matrix Market stiffness (`.mtx`, with the mass and DOF files given).
+//! Every input becomes a [`Substructure`]; meshes also keep their model for
+//! recovery of element quantities, which matrices alone cannot give.
+
+use crate::fem::{Dof, Model, Substructure, SystemMatrices};
+use crate::io::{read_model_file, InputError, ModelFile};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A component ready to reduce.
+#[derive(Debug)]
+pub struct Component {
+    pub path: PathBuf,
+    pub sub: Substructure,
+    /// The mesh, when the input had one (not for matrices).
+    pub model: Option<Model>,
+    /// The model file, when the input was one (interface, MBS, study).
+    pub file: Option<ModelFile>,
+    /// Ignored keywords of a deck, for the user to see.
+    pub warnings: Vec<String>,
+}
+
+/// Extra files for matrix input.
+#[derive(Clone, Debug, Default)]
+pub struct MatrixFiles {
+    /// Matrix Market mass matrix (with a `.mtx` stiffness).
+    pub mass: Option<PathBuf>,
+    /// DOF map: one `node dof` line per equation (with a `.mtx` stiffness).
+    pub dofs: Option<PathBuf>,
+}
+
+/// Errors naming the input that is wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error(transparent)]
+    Input(#[from] InputError),
+    #[error("{}: {source}", .path.display())]
+    Assembly {
+        path: PathBuf,
+        #[source]
+        source: crate::fem::FemError,
+    },
+    #[error("{}: unknown input type; expected .toml (model file), .inp (deck), .sti (CalculiX matrices) or .mtx (Matrix Market)", .0.display())]
+    UnknownType(PathBuf),
+    #[error("{}: Matrix Market input needs --mass M.mtx and --dofs DOFS.txt", .0.display())]
+    MissingMatrixFiles(PathBuf),
+    #[error("interface '{0}' is neither a node set nor a node number")]
+    UnknownInterface(String),
+    #[error("interface node {0} has no DOFs")]
+    InterfaceNodeWithoutDofs(u64),
+}
+
+/// Reads the component at `path`.
+pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let assemble = |model: &Model| {
+        Substructure::from_model(model).map_err(|source| LoadError::Assembly {
+            path: path.to_path_buf(),
+            source,
+        })
+    };
+    match ext.as_str() {
+        "toml" => {
+            let file = read_model_file(path)?;
+            Ok(Component {
+                path: path.to_path_buf(),
+                sub: assemble(&file.model)?,
+                model: Some(file.model.clone()),
+                file: Some(file),
+                warnings: vec![],
+            })
+        }
+        "inp" => {
+            let deck = crate::io::deck::read_deck(path)?;
+            Ok(Component {
+                path: path.to_path_buf(),
+                sub: assemble(&deck.model)?,
+                model: Some(deck.model),
+                file: None,
+                warnings: deck.warnings,
+            })
+        }
+        "sti" => {
+            let m = crate::io::matrices::read_calculix_matrices(&path.with_extension(""))?;
+            Ok(from_matrices(path, m))
+        }
+        "mtx" => {
+            let (Some(mass), Some(dofs)) = (&matrices.mass, &matrices.dofs) else {
+                return Err(LoadError::MissingMatrixFiles(path.to_path_buf()));
+            };
+            let m = crate::io::matrices::read_matrix_market(path, mass, dofs)?;
+            Ok(from_matrices(path, m))
+        }
+        _ => Err(LoadError::UnknownType(path.to_path_buf())),
+    }
+}
+
+fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel) -> Component {
+    let matrices = SystemMatrices {
+        stiffness: m.stiffness,
+        mass: m.mass,
+        damping: None,
+    };
+    Component {
+        path: path.to_path_buf(),
+        sub: Substructure::from_matrices(m.dof_map, matrices, Default::default()),
+        model: None,
+        file: None,
+        warnings: vec![],
+    }
+}
+
+impl Component {
+    /// Interface DOFs from a comma-separated list of node sets and node
+    /// numbers (all free DOFs of each node), or the model file's interface
+    /// when `spec` is `None`.
+    pub fn interface(&self, spec: Option<&str>) -> Result<Vec<Dof>, LoadError> {
+        let Some(spec) = spec else {
+            return Ok(self
+                .file
+                .as_ref()
+                .map(|f| f.interface.clone())
+                .unwrap_or_default());
+        };
+        let sets: BTreeMap<String, Vec<u64>> = self
+            .model
+            .as_ref()
+            .map(|m| {
+                m.node_sets()
+                    .iter()
+                    .map(|(k, v)| (k.to_ascii_uppercase(), v.clone()))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let mut dofs = Vec::new();
+        for token in spec.split(',').map(str::trim).filter(|t| !t.is_empty()) {
+            let nodes = match sets.get(&token.to_ascii_uppercase()) {
+                Some(n) => n.clone(),
+                None => vec![token
+                    .parse::<u64>()
+                    .map_err(|_| LoadError::UnknownInterface(token.to_string()))?],
+            };
+            for node in nodes {
+                let kinds = self.sub.dof_map.node_dofs(node);
+                if kinds.is_empty() {
+                    return Err(LoadError::InterfaceNodeWithoutDofs(node));
+                }
+                for (kind, _) in kinds {
+                    let d = Dof::new(node, kind);
+                    if !dofs.contains(&d) {
+                        dofs.push(d);
+                    }
+                }
+            }
+        }
+        Ok(dofs)
+    }
+}
