@@ -3,6 +3,7 @@
 
 mod calculix;
 mod cli;
+mod decks;
 mod export;
 mod study;
 mod vehicle;

@@ -78,11 +78,24 @@ pub fn generalized_symmetric(
     let mean = (trace_k / trace_m).max(f64::MIN_POSITIVE);
     let sigma = -1e-6 * mean;
     let first = shifted(k, m, sigma)?;
-    let lowest_elastic = first
-        .values
-        .iter()
-        .copied()
-        .find(|l| *l > 1e-6 * sigma.abs());
+    // The lowest elastic eigenvalue sets the second shift; round-off zeros
+    // of rigid-body modes (slightly negative or positive, larger when K
+    // comes from a text file) must not.
+    // A zero eigenvalue comes out at round-off of eps lambda_max (or of the
+    // file's digits): the lowest may count as elastic only above
+    // 1e-8 lambda_max, any later one only a factor 1e6 above all before it.
+    let v = &first.values;
+    let top = v.last().map_or(0.0, |x| x.abs());
+    let lowest_elastic = (0..v.len())
+        .find(|&i| {
+            v[i] > 0.0
+                && if i == 0 {
+                    v[0] > 1e-8 * top
+                } else {
+                    v[i] > 1e6 * v[..i].iter().fold(0.0_f64, |a, b| a.max(b.abs()))
+                }
+        })
+        .map(|i| v[i]);
     match lowest_elastic {
         Some(l) if !(1e-2..=1e2).contains(&(l / sigma.abs())) => shifted(k, m, -l),
         _ => Ok(first),
@@ -181,5 +194,30 @@ mod tests {
         let r =
             &k * pairs.vectors.col(1) - &m * pairs.vectors.col(1) * faer::Scale(pairs.values[1]);
         assert!(r.norm_max() < 1e-13);
+    }
+
+    #[test]
+    fn rounded_zero_modes_do_not_set_the_shift() {
+        // A free chain with a spectrum over 15 decades whose zero mode came
+        // out slightly positive (as from K read from a text file): the shift
+        // must come from the first elastic eigenvalue, or the stiff modes
+        // look massless and are lost.
+        let n = 14;
+        let stiff: Vec<f64> = (0..n - 1).map(|i| 1e6 * 10f64.powi(i as i32 % 4)).collect();
+        let mut k = Mat::<f64>::zeros(n, n);
+        for (i, s) in stiff.iter().enumerate() {
+            k[(i, i)] += s;
+            k[(i + 1, i + 1)] += s;
+            k[(i, i + 1)] -= s;
+            k[(i + 1, i)] -= s;
+        }
+        let m = Mat::<f64>::identity(n, n);
+        let exact = generalized_symmetric(k.as_ref(), m.as_ref()).unwrap();
+        let rounded = Mat::from_fn(n, n, |i, j| k[(i, j)] + if i == j { 1e-3 } else { 0.0 });
+        let pairs = generalized_symmetric(rounded.as_ref(), m.as_ref()).unwrap();
+        assert_eq!(pairs.values.len(), n);
+        for (a, b) in pairs.values.iter().zip(&exact.values).skip(1) {
+            assert!((a - b - 1e-3).abs() < 1e-9 * b, "{a} vs {b}");
+        }
     }
 }
