@@ -21,6 +21,8 @@ pub struct Component {
     pub file: Option<ModelFile>,
     /// Ignored keywords of a deck, for the user to see.
     pub warnings: Vec<String>,
+    /// Seconds spent reading the files and assembling K and M.
+    pub timing: (f64, f64),
 }
 
 /// Extra files for matrix input.
@@ -59,11 +61,18 @@ pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError>
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
+    let start = std::time::Instant::now();
+    let read_time = std::cell::Cell::new(0.0);
     let assemble = |model: &Model| {
+        read_time.set(start.elapsed().as_secs_f64());
         Substructure::from_model(model).map_err(|source| LoadError::Assembly {
             path: path.to_path_buf(),
             source,
         })
+    };
+    let timing = || {
+        let total = start.elapsed().as_secs_f64();
+        (read_time.get(), total - read_time.get())
     };
     match ext.as_str() {
         "toml" => {
@@ -74,6 +83,7 @@ pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError>
                 model: Some(file.model.clone()),
                 file: Some(file),
                 warnings: vec![],
+                timing: timing(),
             })
         }
         "inp" => {
@@ -84,24 +94,25 @@ pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError>
                 model: Some(deck.model),
                 file: None,
                 warnings: deck.warnings,
+                timing: timing(),
             })
         }
         "sti" => {
             let m = crate::io::matrices::read_calculix_matrices(&path.with_extension(""))?;
-            Ok(from_matrices(path, m))
+            Ok(from_matrices(path, m, start.elapsed().as_secs_f64()))
         }
         "mtx" => {
             let (Some(mass), Some(dofs)) = (&matrices.mass, &matrices.dofs) else {
                 return Err(LoadError::MissingMatrixFiles(path.to_path_buf()));
             };
             let m = crate::io::matrices::read_matrix_market(path, mass, dofs)?;
-            Ok(from_matrices(path, m))
+            Ok(from_matrices(path, m, start.elapsed().as_secs_f64()))
         }
         _ => Err(LoadError::UnknownType(path.to_path_buf())),
     }
 }
 
-fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel) -> Component {
+fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64) -> Component {
     let matrices = SystemMatrices {
         stiffness: m.stiffness,
         mass: m.mass,
@@ -113,6 +124,7 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel) -> Component 
         model: None,
         file: None,
         warnings: vec![],
+        timing: (seconds, 0.0),
     }
 }
 

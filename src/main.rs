@@ -392,7 +392,9 @@ fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
         .collect();
     println!("mass along x, y, z (kg): {}", masses.join(", "));
     println!(
-        "read and assembled in {seconds:.3} s; peak memory {}",
+        "read in {:.3} s, assembled in {:.3} s ({seconds:.3} s in all); peak memory {}",
+        c.timing.0,
+        c.timing.1,
         peak_memory()
     );
     Ok(())

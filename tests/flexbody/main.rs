@@ -4,6 +4,7 @@
 mod calculix;
 mod cli;
 mod decks;
+mod exchange;
 mod export;
 mod study;
 mod vehicle;
