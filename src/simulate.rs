@@ -156,11 +156,8 @@ fn histories(
         let a = body.displacements(&s.a[q_at..q_at + n]);
         for (k, e) in elements.iter().enumerate() {
             let dofs = e.dofs();
-            let pick = |v: &[f64]| -> Vec<f64> {
-                dofs.iter()
-                    .map(|d| file.model.dof_map().index_of(*d).map_or(0.0, |i| v[i]))
-                    .collect()
-            };
+            let pick =
+                |v: &[f64]| -> Vec<f64> { dofs.iter().map(|d| file.model.value(*d, v)).collect() };
             let f = e
                 .section_forces(&file.model, &pick(&u), &pick(&a))?
                 .unwrap_or_default();

@@ -28,17 +28,19 @@ pub struct SystemMatrices {
 pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
     let map = model.dof_map();
     let n = map.len();
-    // Equations of each element's DOFs (None: fixed).
-    let equations: Vec<Vec<Option<usize>>> = model
+    // Equations of each element's DOFs (fixed: none; coupled: several).
+    let equations: Vec<Vec<Terms>> = model
         .elements()
         .par_iter()
         .map(|e| element_equations(model, e))
         .collect();
-    let (col_ptr, row_idx) = pattern(n, &equations);
+    let touched: Vec<Vec<usize>> = equations.par_iter().map(|t| equations_of(t)).collect();
+    let (col_ptr, row_idx) = pattern(n, &touched);
     let nnz = row_idx.len();
     let mut k = vec![0.0; nnz];
     let mut m = vec![0.0; nnz];
-    let colors = color_elements(model, &equations);
+    let colors = color_elements(model, &touched);
+    drop(touched);
     for color in colors {
         let k_out = SharedSlice(k.as_mut_ptr());
         let m_out = SharedSlice(m.as_mut_ptr());
@@ -71,28 +73,74 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
     })
 }
 
-/// Equation numbers of an element's DOFs, in [`Element::dofs`] order (point
+/// Where an element DOF goes: nowhere (fixed), to one equation, or to a
+/// combination of equations (a DOF eliminated by a coupling).
+#[derive(Clone, Debug)]
+enum Terms {
+    Fixed,
+    Direct(usize),
+    Combination(Vec<(usize, f64)>),
+}
+
+impl Terms {
+    fn of(model: &Model, dof: crate::Dof) -> Terms {
+        match model.dof_map().index_of(dof) {
+            Some(i) => Terms::Direct(i),
+            None if model.has_constraints() => {
+                let t = model.terms(dof);
+                if t.is_empty() {
+                    Terms::Fixed
+                } else {
+                    Terms::Combination(t)
+                }
+            }
+            None => Terms::Fixed,
+        }
+    }
+
+    /// Calls `f(equation, coefficient)` for each term.
+    fn each(&self, mut f: impl FnMut(usize, f64)) {
+        match self {
+            Terms::Fixed => {}
+            Terms::Direct(i) => f(*i, 1.0),
+            Terms::Combination(t) => t.iter().for_each(|&(i, c)| f(i, c)),
+        }
+    }
+}
+
+/// The sorted, distinct equations an element touches.
+fn equations_of(terms: &[Terms]) -> Vec<usize> {
+    let mut v = Vec::with_capacity(terms.len());
+    for t in terms {
+        t.each(|i, _| v.push(i));
+    }
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// Equation terms of an element's DOFs, in [`Element::dofs`] order (point
 /// masses: only the DOFs their node has).
-fn element_equations(model: &Model, e: &Element) -> Vec<Option<usize>> {
+fn element_equations(model: &Model, e: &Element) -> Vec<Terms> {
     let map = model.dof_map();
     match e {
         Element::PointMass(p) => map
             .node_dofs(p.node)
             .into_iter()
-            .map(|(_, i)| Some(i))
+            .map(|(_, i)| Terms::Direct(i))
             .collect(),
-        _ => e.dofs().into_iter().map(|d| map.index_of(d)).collect(),
+        _ => e.dofs().into_iter().map(|d| Terms::of(model, d)).collect(),
     }
 }
 
 /// Column pointers and sorted row indices of the union of all element blocks.
-fn pattern(n: usize, equations: &[Vec<Option<usize>>]) -> (Vec<usize>, Vec<usize>) {
+fn pattern(n: usize, equations: &[Vec<usize>]) -> (Vec<usize>, Vec<usize>) {
     // Elements per equation, then each column's rows as the sorted union of
     // the equations of those elements.
     let mut count = vec![0usize; n + 1];
     for eq in equations {
-        for i in eq.iter().flatten() {
-            count[*i + 1] += 1;
+        for &i in eq {
+            count[i + 1] += 1;
         }
     }
     for i in 0..n {
@@ -101,7 +149,7 @@ fn pattern(n: usize, equations: &[Vec<Option<usize>>]) -> (Vec<usize>, Vec<usize
     let mut fill = count.clone();
     let mut elements_of = vec![0usize; count[n]];
     for (e, eq) in equations.iter().enumerate() {
-        for i in eq.iter().flatten() {
+        for i in eq {
             elements_of[fill[*i]] = e;
             fill[*i] += 1;
         }
@@ -111,7 +159,7 @@ fn pattern(n: usize, equations: &[Vec<Option<usize>>]) -> (Vec<usize>, Vec<usize
         .map(|j| {
             let mut rows: Vec<usize> = elements_of[count[j]..count[j + 1]]
                 .iter()
-                .flat_map(|&e| equations[e].iter().flatten().copied())
+                .flat_map(|&e| equations[e].iter().copied())
                 .collect();
             rows.sort_unstable();
             rows.dedup();
@@ -131,15 +179,13 @@ fn pattern(n: usize, equations: &[Vec<Option<usize>>]) -> (Vec<usize>, Vec<usize
 }
 
 /// Greedy colouring: elements of one colour share no equation.
-fn color_elements(model: &Model, equations: &[Vec<Option<usize>>]) -> Vec<Vec<usize>> {
+fn color_elements(model: &Model, equations: &[Vec<usize>]) -> Vec<Vec<usize>> {
     let n = model.dof_map().len();
     // Last colour that touched each equation, per colour round.
     let mut colors: Vec<Vec<usize>> = Vec::new();
     let mut used: Vec<Vec<bool>> = Vec::new();
     for (e, eq) in equations.iter().enumerate() {
-        let free = used
-            .iter()
-            .position(|u| eq.iter().flatten().all(|&i| !u[i]));
+        let free = used.iter().position(|u| eq.iter().all(|&i| !u[i]));
         let c = match free {
             Some(c) => c,
             None => {
@@ -148,7 +194,7 @@ fn color_elements(model: &Model, equations: &[Vec<Option<usize>>]) -> Vec<Vec<us
                 colors.len() - 1
             }
         };
-        for &i in eq.iter().flatten() {
+        for &i in eq {
             used[c][i] = true;
         }
         colors[c].push(e);
@@ -162,37 +208,41 @@ struct SharedSlice(*mut f64);
 unsafe impl Send for SharedSlice {}
 unsafe impl Sync for SharedSlice {}
 
-/// Adds an element's K and M into the value arrays.
+/// Adds an element's K and M into the value arrays, through the terms of
+/// its DOFs: `K_ij += sum_ab c_ai c_bj K_e,ab`.
 ///
 /// # Safety
 /// `k` and `m` point to arrays of `row_idx.len()` values, and no other thread
 /// writes the entries of the element's equations at the same time.
 unsafe fn scatter(
     em: &ElementMatrices,
-    eq: &[Option<usize>],
+    eq: &[Terms],
     col_ptr: &[usize],
     row_idx: &[usize],
     k: SharedSlice,
     m: SharedSlice,
 ) {
-    for (b, jb) in eq.iter().enumerate() {
-        let Some(j) = *jb else { continue };
-        let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-        for (a, ia) in eq.iter().enumerate() {
-            let Some(i) = *ia else { continue };
-            let (kv, mv) = (em.stiffness[(a, b)], em.mass[(a, b)]);
-            if kv == 0.0 && mv == 0.0 {
-                continue;
-            }
-            // The pattern holds every (i, j) of every element.
-            if let Ok(p) = rows.binary_search(&i) {
-                let at = col_ptr[j] + p;
-                unsafe {
-                    *k.0.add(at) += kv;
-                    *m.0.add(at) += mv;
+    for (b, tb) in eq.iter().enumerate() {
+        tb.each(|j, cj| {
+            let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            for (a, ta) in eq.iter().enumerate() {
+                let (kv, mv) = (em.stiffness[(a, b)], em.mass[(a, b)]);
+                if kv == 0.0 && mv == 0.0 {
+                    continue;
                 }
+                ta.each(|i, ci| {
+                    // The pattern holds every (i, j) of every element.
+                    if let Ok(p) = rows.binary_search(&i) {
+                        let at = col_ptr[j] + p;
+                        let c = ci * cj;
+                        unsafe {
+                            *k.0.add(at) += c * kv;
+                            *m.0.add(at) += c * mv;
+                        }
+                    }
+                });
             }
-        }
+        });
     }
 }
 

@@ -5,6 +5,7 @@
 //! Units are SI throughout: m, kg, s, N, Pa, rad.
 
 pub mod assembly;
+pub mod coupling;
 pub mod dof;
 pub mod element;
 pub mod model;
@@ -12,6 +13,7 @@ pub mod section;
 pub mod substructure;
 
 pub use assembly::{assemble, SystemMatrices};
+pub use coupling::{Coupling, CouplingKind};
 pub use dof::{Dof, DofKind, DofMap};
 pub use element::{Element, ElementMatrices, SectionForces};
 pub use model::{Model, Node, NodeId, Rayleigh};
@@ -55,6 +57,8 @@ pub enum FemError {
     },
     #[error("element {element}: {reason}")]
     InvalidElement { element: usize, reason: String },
+    #[error("coupling '{name}': {reason}")]
+    InvalidCoupling { name: String, reason: String },
     #[error("the model has no DOFs")]
     Empty,
     #[error(transparent)]

@@ -1,6 +1,7 @@
 //! The FE model of one component: nodes, elements, node sets, boundary
 //! conditions and Rayleigh damping.
 
+use crate::coupling::{Constraints, Coupling};
 use crate::dof::{Dof, DofKind, DofMap};
 use crate::element::Element;
 use crate::FemError;
@@ -34,6 +35,9 @@ pub struct Model {
     node_sets: BTreeMap<String, Vec<NodeId>>,
     fixed: BTreeSet<Dof>,
     rayleigh: Option<Rayleigh>,
+    couplings: Vec<Coupling>,
+    /// Dependent DOFs of the couplings, eliminated from the DOF map.
+    constraints: Constraints,
     dof_map: DofMap,
 }
 
@@ -92,21 +96,49 @@ impl Model {
             node_sets,
             fixed: fixed.into_iter().collect(),
             rayleigh,
+            couplings: Vec::new(),
+            constraints: Constraints::new(),
             dof_map: DofMap::default(),
         };
         model.dof_map = model.build_dof_map()?;
         Ok(model)
     }
 
-    /// Free DOFs: those the stiffness-carrying elements create, minus the
-    /// fixed ones. Point masses only load DOFs that exist.
-    fn build_dof_map(&self) -> Result<DofMap, FemError> {
+    /// The model with interface points coupled to node sets (RBE2/RBE3):
+    /// each point gets 6 DOFs, and the dependent DOFs of the couplings leave
+    /// the DOF map (exact elimination).
+    pub fn with_couplings(mut self, couplings: Vec<Coupling>) -> Result<Self, FemError> {
+        self.couplings = couplings;
+        self.dof_map = self.build_dof_map()?;
+        Ok(self)
+    }
+
+    /// The couplings of the model.
+    pub fn couplings(&self) -> &[Coupling] {
+        &self.couplings
+    }
+
+    /// Free DOFs: those the stiffness-carrying elements and coupling points
+    /// create, minus the fixed ones and the couplings' dependent ones. Point
+    /// masses only load DOFs that exist.
+    fn build_dof_map(&mut self) -> Result<DofMap, FemError> {
         let mut active: BTreeSet<(usize, DofKind)> = BTreeSet::new();
         for e in &self.elements {
             if e.creates_dofs() {
                 for d in e.dofs() {
                     active.insert((self.node_index[&d.node], d.kind));
                 }
+            }
+        }
+        for c in &self.couplings {
+            let Some(&idx) = self.node_index.get(&c.point) else {
+                return Err(FemError::InvalidCoupling {
+                    name: c.name.clone(),
+                    reason: format!("reference node {} does not exist", c.point),
+                });
+            };
+            for k in DofKind::ALL {
+                active.insert((idx, k));
             }
         }
         for e in &self.elements {
@@ -134,11 +166,54 @@ impl Model {
                 });
             }
         }
+        // Coupling constraints.
+        let mut constraints = Constraints::new();
+        {
+            let coords = |n: NodeId| self.node_index.get(&n).map(|&i| self.nodes[i].coords);
+            let kinds = |n: NodeId| -> Vec<DofKind> {
+                self.node_index
+                    .get(&n)
+                    .map(|&i| {
+                        DofKind::ALL
+                            .into_iter()
+                            .filter(|k| active.contains(&(i, *k)))
+                            .collect()
+                    })
+                    .unwrap_or_default()
+            };
+            for c in &self.couplings {
+                for (dof, terms) in c.constraints(&coords, &kinds)? {
+                    if self.fixed.contains(&dof) {
+                        return Err(FemError::InvalidCoupling {
+                            name: c.name.clone(),
+                            reason: format!("{dof} is both fixed and coupled"),
+                        });
+                    }
+                    if constraints.insert(dof, terms).is_some() {
+                        return Err(FemError::InvalidCoupling {
+                            name: c.name.clone(),
+                            reason: format!("{dof} belongs to two couplings"),
+                        });
+                    }
+                }
+            }
+            for (dof, terms) in &constraints {
+                if let Some((t, _)) = terms.iter().find(|(t, _)| constraints.contains_key(t)) {
+                    return Err(FemError::InvalidCoupling {
+                        name: "-".into(),
+                        reason: format!(
+                            "{dof} depends on {t}, which is itself coupled (chained couplings)"
+                        ),
+                    });
+                }
+            }
+        }
         let dofs: Vec<Dof> = active
             .into_iter()
             .map(|(i, k)| Dof::new(self.nodes[i].id, k))
-            .filter(|d| !self.fixed.contains(d))
+            .filter(|d| !self.fixed.contains(d) && !constraints.contains_key(d))
             .collect();
+        self.constraints = constraints;
         if dofs.is_empty() {
             return Err(FemError::Empty);
         }
@@ -169,6 +244,41 @@ impl Model {
     /// Equation numbering of the free DOFs.
     pub fn dof_map(&self) -> &DofMap {
         &self.dof_map
+    }
+
+    /// A DOF's value as a combination of equations: one equation for a free
+    /// DOF, none for a fixed one, the constraint's terms for a DOF a
+    /// coupling eliminated.
+    pub fn terms(&self, dof: Dof) -> Vec<(usize, f64)> {
+        if let Some(i) = self.dof_map.index_of(dof) {
+            return vec![(i, 1.0)];
+        }
+        match self.constraints.get(&dof) {
+            Some(terms) => terms
+                .iter()
+                .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| (i, *c)))
+                .collect(),
+            None => vec![],
+        }
+    }
+
+    /// True if some DOF was eliminated by a coupling.
+    pub fn has_constraints(&self) -> bool {
+        !self.constraints.is_empty()
+    }
+
+    /// The value of any DOF of the model from a vector over its equations
+    /// (fixed DOFs: 0; coupled DOFs: from their constraint).
+    pub fn value(&self, dof: Dof, u: &[f64]) -> f64 {
+        match self.dof_map.index_of(dof) {
+            Some(i) => u[i],
+            None => self.constraints.get(&dof).map_or(0.0, |terms| {
+                terms
+                    .iter()
+                    .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| c * u[i]))
+                    .sum()
+            }),
+        }
     }
 
     /// The node with user id `id`.

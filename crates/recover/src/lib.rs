@@ -22,11 +22,10 @@ pub struct ElementForces {
     pub forces: SectionForces,
 }
 
-/// Values of the model's DOFs from a vector over its equations (fixed DOFs: 0).
+/// Values of the model's DOFs from a vector over its equations (fixed DOFs:
+/// 0; DOFs eliminated by couplings: from their constraints).
 fn gather(model: &Model, dofs: &[Dof], u: &[f64]) -> Vec<f64> {
-    dofs.iter()
-        .map(|d| model.dof_map().index_of(*d).map_or(0.0, |i| u[i]))
-        .collect()
+    dofs.iter().map(|d| model.value(*d, u)).collect()
 }
 
 /// Eq. 25 for every beam element: section forces from displacements `u`
@@ -67,16 +66,12 @@ pub fn nodal_values(model: &Model, u: &[f64], kind: DofKind) -> Vec<([f64; 3], f
         .nodes()
         .iter()
         .filter(|n| {
-            model.dof_map().index_of(Dof::new(n.id, kind)).is_some()
-                || model.fixed_dofs().any(|d| *d == Dof::new(n.id, kind))
+            let d = Dof::new(n.id, kind);
+            model.dof_map().index_of(d).is_some()
+                || !model.terms(d).is_empty()
+                || model.fixed_dofs().any(|f| *f == d)
         })
-        .map(|n| {
-            let v = model
-                .dof_map()
-                .index_of(Dof::new(n.id, kind))
-                .map_or(0.0, |i| u[i]);
-            (n.coords, v)
-        })
+        .map(|n| (n.coords, model.value(Dof::new(n.id, kind), u)))
         .collect()
 }
 

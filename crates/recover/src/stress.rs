@@ -41,11 +41,7 @@ pub fn nodal_stresses(model: &Model, u: &[f64]) -> Result<NodalStresses, FemErro
     for e in model.elements() {
         let Element::Solid(s) = e else { continue };
         let coords: Vec<[f64; 3]> = s.nodes.iter().map(|&n| model.coords(n)).collect();
-        let u_e: Vec<f64> = e
-            .dofs()
-            .iter()
-            .map(|d: &Dof| model.dof_map().index_of(*d).map_or(0.0, |i| u[i]))
-            .collect();
+        let u_e: Vec<f64> = e.dofs().iter().map(|d: &Dof| model.value(*d, u)).collect();
         for (node, sigma) in s.nodes.iter().zip(s.nodal_stresses(&coords, &u_e)?) {
             let entry = sum.entry(*node).or_insert(([0.0; 6], 0));
             for (acc, v) in entry.0.iter_mut().zip(sigma) {

@@ -1,0 +1,524 @@
+//! Interface points on faces: a reference node with 6 DOFs coupled to a set
+//! of nodes, rigidly (RBE2, Abaqus *KINEMATIC COUPLING) or by distribution
+//! (RBE3, Abaqus *DISTRIBUTING COUPLING). Both become exact linear
+//! constraints `u_d = sum_k c_k u_k` that eliminate dependent DOFs.
+//!
+//! - Rigid: every DOF of every set node follows the point as a rigid body
+//!   (eq. 12): `u_i = u_P + theta_P x (x_i - x_P)`, `theta_i = theta_P`.
+//! - Distributing: the point moves as the weighted least-squares rigid fit of
+//!   the set's translations, `[u_P; theta_P] = N^-1 sum_i w_i G_i^T u_i` with
+//!   `G_i = [I | -(x_i - x_P) x]`, `N = sum_i w_i G_i^T G_i`; loads at the
+//!   point reach the set as `R^T f` without stiffening it. The point's six
+//!   DOFs stay independent: six set DOFs (a regular choice, as Nastran's UM
+//!   set) become dependent instead, so the constraint adds no stiffness and
+//!   every reduction method can use the point as an interface.
+
+use crate::dof::{Dof, DofKind};
+use crate::model::NodeId;
+use crate::FemError;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// How the point is coupled to its set.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CouplingKind {
+    /// RBE2 / kinematic coupling.
+    Rigid,
+    /// RBE3 / distributing coupling.
+    Distributing,
+}
+
+/// A coupling of reference node `point` (6 DOFs) to `nodes`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coupling {
+    pub name: String,
+    pub kind: CouplingKind,
+    pub point: NodeId,
+    pub nodes: Vec<NodeId>,
+    /// Weights of the set nodes (distributing); `None`: all 1.
+    pub weights: Option<Vec<f64>>,
+}
+
+/// Dependent DOFs as combinations of independent ones.
+pub type Constraints = BTreeMap<Dof, Vec<(Dof, f64)>>;
+
+impl Coupling {
+    /// The constraints of this coupling. `coords` gives node positions,
+    /// `active(node)` the DOF kinds a node has.
+    pub fn constraints(
+        &self,
+        coords: &dyn Fn(NodeId) -> Option<[f64; 3]>,
+        active: &dyn Fn(NodeId) -> Vec<DofKind>,
+    ) -> Result<Constraints, FemError> {
+        let bad = |reason: String| FemError::InvalidCoupling {
+            name: self.name.clone(),
+            reason,
+        };
+        if self.nodes.is_empty() {
+            return Err(bad("its node set is empty".into()));
+        }
+        let p = coords(self.point)
+            .ok_or_else(|| bad(format!("reference node {} does not exist", self.point)))?;
+        let mut seen = std::collections::BTreeSet::new();
+        for n in &self.nodes {
+            if coords(*n).is_none() {
+                return Err(bad(format!("node {n} does not exist")));
+            }
+            if *n == self.point {
+                return Err(bad(format!(
+                    "the reference node {n} is also in its own set"
+                )));
+            }
+            if !seen.insert(*n) {
+                return Err(bad(format!("node {n} is listed twice")));
+            }
+        }
+        let pdof = |k: DofKind| Dof::new(self.point, k);
+        let mut out = Constraints::new();
+        match self.kind {
+            CouplingKind::Rigid => {
+                for &n in &self.nodes {
+                    let x = coords(n).unwrap_or(p);
+                    let r = [x[0] - p[0], x[1] - p[1], x[2] - p[2]];
+                    for k in active(n) {
+                        let terms: Vec<(Dof, f64)> = match k {
+                            DofKind::Ux => vec![
+                                (pdof(DofKind::Ux), 1.0),
+                                (pdof(DofKind::Ry), r[2]),
+                                (pdof(DofKind::Rz), -r[1]),
+                            ],
+                            DofKind::Uy => vec![
+                                (pdof(DofKind::Uy), 1.0),
+                                (pdof(DofKind::Rx), -r[2]),
+                                (pdof(DofKind::Rz), r[0]),
+                            ],
+                            DofKind::Uz => vec![
+                                (pdof(DofKind::Uz), 1.0),
+                                (pdof(DofKind::Rx), r[1]),
+                                (pdof(DofKind::Ry), -r[0]),
+                            ],
+                            rot => vec![(pdof(rot), 1.0)],
+                        };
+                        out.insert(
+                            Dof::new(n, k),
+                            terms.into_iter().filter(|(_, c)| *c != 0.0).collect(),
+                        );
+                    }
+                }
+            }
+            CouplingKind::Distributing => {
+                let w = match &self.weights {
+                    Some(w) if w.len() != self.nodes.len() => {
+                        return Err(bad(format!(
+                            "{} weights for {} nodes",
+                            w.len(),
+                            self.nodes.len()
+                        )))
+                    }
+                    Some(w) if w.iter().any(|x| !(x.is_finite() && *x > 0.0)) => {
+                        return Err(bad("weights must be positive".into()))
+                    }
+                    Some(w) => w.clone(),
+                    None => vec![1.0; self.nodes.len()],
+                };
+                // Set DOFs (translations) and the fit R (6 x 3n).
+                let mut set_dofs = Vec::new();
+                let mut g_rows: Vec<[f64; 6]> = Vec::new();
+                let mut weight = Vec::new();
+                for (&n, &wi) in self.nodes.iter().zip(&w) {
+                    let x = coords(n).unwrap_or(p);
+                    let r = [x[0] - p[0], x[1] - p[1], x[2] - p[2]];
+                    let kinds = active(n);
+                    for (a, k) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+                        .into_iter()
+                        .enumerate()
+                    {
+                        if !kinds.contains(&k) {
+                            return Err(bad(format!("node {n} has no DOF {k} (distributing couplings need translations)")));
+                        }
+                        // Row a of G_i = [I | -[r]x]: u_a = u_P,a + (theta x r)_a.
+                        let mut g = [0.0; 6];
+                        g[a] = 1.0;
+                        match a {
+                            0 => {
+                                g[4] = r[2];
+                                g[5] = -r[1];
+                            }
+                            1 => {
+                                g[3] = -r[2];
+                                g[5] = r[0];
+                            }
+                            _ => {
+                                g[3] = r[1];
+                                g[4] = -r[0];
+                            }
+                        }
+                        set_dofs.push(Dof::new(n, k));
+                        g_rows.push(g);
+                        weight.push(wi);
+                    }
+                }
+                let mut normal = [[0.0; 6]; 6];
+                for (g, wi) in g_rows.iter().zip(&weight) {
+                    for a in 0..6 {
+                        for b in 0..6 {
+                            normal[a][b] += wi * g[a] * g[b];
+                        }
+                    }
+                }
+                let inv = invert6(&normal).ok_or_else(|| {
+                    bad("its nodes are collinear (or a single point): the rotation about their line is undetermined; use more nodes off the line or a rigid coupling".into())
+                })?;
+                // R = N^-1 [w_i G_i^T]: column j of R for set DOF j.
+                let rcols: Vec<[f64; 6]> = g_rows
+                    .iter()
+                    .zip(&weight)
+                    .map(|(g, wi)| {
+                        std::array::from_fn(|a| (0..6).map(|b| inv[a][b] * wi * g[b]).sum())
+                    })
+                    .collect();
+                // Six dependent set DOFs: greedy pivoting for a regular R_d.
+                let dep = pick_columns(&rcols)
+                    .ok_or_else(|| bad("no six set DOFs determine the point's motion".into()))?;
+                let rd: [[f64; 6]; 6] =
+                    std::array::from_fn(|a| std::array::from_fn(|k| rcols[dep[k]][a]));
+                let rd_inv =
+                    invert6(&rd).ok_or_else(|| bad("singular choice of dependent DOFs".into()))?;
+                // u_d = R_d^-1 (u_P - sum_{j indep} R_j u_j).
+                for (k, &dk) in dep.iter().enumerate() {
+                    let mut terms: Vec<(Dof, f64)> = (0..6)
+                        .map(|a| (pdof(DofKind::ALL[a]), rd_inv[k][a]))
+                        .filter(|(_, c)| c.abs() > 0.0)
+                        .collect();
+                    for (j, dof) in set_dofs.iter().enumerate() {
+                        if dep.contains(&j) {
+                            continue;
+                        }
+                        let c: f64 = -(0..6).map(|a| rd_inv[k][a] * rcols[j][a]).sum::<f64>();
+                        if c != 0.0 {
+                            terms.push((*dof, c));
+                        }
+                    }
+                    out.insert(set_dofs[dk], terms);
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Six columns (of length 6) with a well-conditioned 6x6 submatrix, chosen
+/// greedily by largest residual after projecting out the chosen ones.
+fn pick_columns(cols: &[[f64; 6]]) -> Option<[usize; 6]> {
+    let mut basis: Vec<[f64; 6]> = Vec::new();
+    let mut chosen = Vec::new();
+    let scale = cols.iter().map(|c| norm(c)).fold(0.0, f64::max);
+    for _ in 0..6 {
+        let residual = |c: &[f64; 6]| -> [f64; 6] {
+            let mut v = *c;
+            for q in &basis {
+                let d: f64 = (0..6).map(|i| q[i] * v[i]).sum();
+                for i in 0..6 {
+                    v[i] -= d * q[i];
+                }
+            }
+            v
+        };
+        let (best, v) = cols
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| !chosen.contains(j))
+            .map(|(j, c)| (j, residual(c)))
+            .max_by(|a, b| norm(&a.1).total_cmp(&norm(&b.1)))?;
+        let n = norm(&v);
+        if n <= 1e-10 * scale {
+            return None;
+        }
+        basis.push(v.map(|x| x / n));
+        chosen.push(best);
+    }
+    Some(std::array::from_fn(|k| chosen[k]))
+}
+
+fn norm(v: &[f64; 6]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Inverse of a 6x6 matrix by Gauss-Jordan with partial pivoting; `None` if
+/// (numerically) singular.
+fn invert6(a: &[[f64; 6]; 6]) -> Option<[[f64; 6]; 6]> {
+    let mut m = *a;
+    let mut inv = [[0.0; 6]; 6];
+    for (i, row) in inv.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    let scale = a.iter().flatten().fold(0.0_f64, |s, x| s.max(x.abs()));
+    for col in 0..6 {
+        let piv = (col..6).max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))?;
+        if m[piv][col].abs() <= 1e-12 * scale {
+            return None;
+        }
+        m.swap(col, piv);
+        inv.swap(col, piv);
+        let d = m[col][col];
+        for j in 0..6 {
+            m[col][j] /= d;
+            inv[col][j] /= d;
+        }
+        for r in 0..6 {
+            if r != col {
+                let f = m[r][col];
+                if f != 0.0 {
+                    for j in 0..6 {
+                        m[r][j] -= f * m[col][j];
+                        inv[r][j] -= f * inv[col][j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::{Solid, SolidKind};
+    use crate::{assemble, Element, Material, Model, Node};
+    use faer::Mat;
+    use flexbody_linalg::eigen::generalized_symmetric;
+    use std::collections::BTreeMap;
+
+    /// A C3D8 bar of `n` elements along x (0.1 m cubes); face nodes at x = 0
+    /// are 1..=4, the point is node 1000 at the face centre.
+    fn bar(n: usize, fixed_far_end: bool) -> Model {
+        let id = |i: usize, j: usize, k: usize| (1 + j + 2 * k + 4 * i) as u64;
+        let mut nodes = Vec::new();
+        for i in 0..=n {
+            for k in 0..2 {
+                for j in 0..2 {
+                    nodes.push(Node {
+                        id: id(i, j, k),
+                        coords: [0.1 * i as f64, 0.1 * j as f64, 0.1 * k as f64],
+                    });
+                }
+            }
+        }
+        nodes.push(Node {
+            id: 1000,
+            coords: [0.0, 0.05, 0.05],
+        });
+        let material = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let elements = (0..n)
+            .map(|i| {
+                Element::Solid(Solid {
+                    id: i + 1,
+                    kind: SolidKind::C3D8,
+                    nodes: vec![
+                        id(i, 0, 0),
+                        id(i + 1, 0, 0),
+                        id(i + 1, 1, 0),
+                        id(i, 1, 0),
+                        id(i, 0, 1),
+                        id(i + 1, 0, 1),
+                        id(i + 1, 1, 1),
+                        id(i, 1, 1),
+                    ],
+                    material: material.clone(),
+                })
+            })
+            .collect();
+        let fixed = if fixed_far_end {
+            (0..2)
+                .flat_map(|k| (0..2).map(move |j| (j, k)))
+                .flat_map(|(j, k)| {
+                    [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| Dof::new(id(n, j, k), d))
+                })
+                .collect()
+        } else {
+            vec![]
+        };
+        Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap()
+    }
+
+    fn coupled(model: Model, kind: CouplingKind) -> Model {
+        model
+            .with_couplings(vec![Coupling {
+                name: "face".into(),
+                kind,
+                point: 1000,
+                nodes: vec![1, 2, 3, 4],
+                weights: None,
+            }])
+            .unwrap()
+    }
+
+    fn rigid(model: &Model, motion: [f64; 6]) -> Vec<f64> {
+        let c = model.coords(1000);
+        model
+            .dof_map()
+            .dofs()
+            .iter()
+            .map(|d| {
+                let x = model.coords(d.node);
+                let r = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+                let [u, v, w, a, b, g] = motion;
+                match d.kind {
+                    DofKind::Ux => u + b * r[2] - g * r[1],
+                    DofKind::Uy => v - a * r[2] + g * r[0],
+                    DofKind::Uz => w + a * r[1] - b * r[0],
+                    DofKind::Rx => a,
+                    DofKind::Ry => b,
+                    DofKind::Rz => g,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_rigid_coupling_moves_its_face_rigidly_without_strain() {
+        let model = coupled(bar(3, false), CouplingKind::Rigid);
+        assert_eq!(model.dof_map().len(), 16 * 3 - 12 + 6);
+        let k = assemble(&model).unwrap().stiffness;
+        for motion in [
+            [0.0, 0.0, 0.0, 1e-3, 0.0, 0.0],
+            [1e-3, 0.0, 0.0, 0.0, 2e-3, -1e-3],
+        ] {
+            let u = rigid(&model, motion);
+            let ku = &k * Mat::from_fn(u.len(), 1, |i, _| u[i]);
+            assert!(ku.norm_max() < 1e-12 * flexbody_linalg::sparse::max_abs_diagonal(&k) * 1e-3);
+            // The face nodes, eliminated, follow the point as a rigid body.
+            let c = model.coords(1000);
+            for n in 1..=4 {
+                let x = model.coords(n);
+                let want_w = motion[2] + motion[3] * (x[1] - c[1]) - motion[4] * (x[0] - c[0]);
+                assert!((model.value(Dof::new(n, DofKind::Uz), &u) - want_w).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn a_distributing_coupling_adds_no_stiffness() {
+        let plain = assemble(&bar(3, false)).unwrap();
+        let model = coupled(bar(3, false), CouplingKind::Distributing);
+        assert_eq!(
+            model.dof_map().len(),
+            16 * 3,
+            "6 point DOFs in, 6 face DOFs out"
+        );
+        let with = assemble(&model).unwrap();
+        let a = generalized_symmetric(
+            plain.stiffness.to_dense().as_ref(),
+            plain.mass.to_dense().as_ref(),
+        )
+        .unwrap();
+        let b = generalized_symmetric(
+            with.stiffness.to_dense().as_ref(),
+            with.mass.to_dense().as_ref(),
+        )
+        .unwrap();
+        for (x, y) in a.values.iter().zip(&b.values).skip(6) {
+            assert!((x - y).abs() < 1e-8 * x, "{x} vs {y}");
+        }
+        // The point follows the face's mean motion: a translation of the face.
+        let u: Vec<f64> = model
+            .dof_map()
+            .dofs()
+            .iter()
+            .map(|d| if d.kind == DofKind::Uz { 1.0 } else { 0.0 })
+            .collect();
+        let i = model
+            .dof_map()
+            .index_of(Dof::new(1000, DofKind::Uz))
+            .unwrap();
+        assert_eq!(u[i], 1.0);
+        for n in 1..=4 {
+            assert!((model.value(Dof::new(n, DofKind::Uz), &u) - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// Static load at the point of a cantilever: the element forces on the
+    /// face nodes (the full mesh's interface forces) sum up to the load.
+    #[test]
+    fn both_couplings_pass_the_load_to_the_face_in_equilibrium() {
+        for kind in [CouplingKind::Rigid, CouplingKind::Distributing] {
+            let model = coupled(bar(4, true), kind);
+            let s = assemble(&model).unwrap();
+            let n = model.dof_map().len();
+            let (fz, mx) = (1000.0, 30.0);
+            let mut f = Mat::<f64>::zeros(n, 1);
+            f[(
+                model
+                    .dof_map()
+                    .index_of(Dof::new(1000, DofKind::Uz))
+                    .unwrap(),
+                0,
+            )] = fz;
+            f[(
+                model
+                    .dof_map()
+                    .index_of(Dof::new(1000, DofKind::Rx))
+                    .unwrap(),
+                0,
+            )] = mx;
+            let u = flexbody_linalg::ldlt::Ldlt::factorize(&s.stiffness)
+                .unwrap()
+                .solve(f.as_ref());
+            let u: Vec<f64> = (0..n).map(|i| u[(i, 0)]).collect();
+            // Nodal forces of the elements on the face nodes.
+            let mut node_force: BTreeMap<u64, [f64; 3]> = BTreeMap::new();
+            for e in model.elements() {
+                let em = e.matrices(&model).unwrap();
+                let ue: Vec<f64> = em.dofs.iter().map(|d| model.value(*d, &u)).collect();
+                for (a, d) in em.dofs.iter().enumerate() {
+                    if d.node <= 4 {
+                        let fa: f64 = (0..ue.len()).map(|b| em.stiffness[(a, b)] * ue[b]).sum();
+                        node_force.entry(d.node).or_default()[d.kind.index()] += fa;
+                    }
+                }
+            }
+            let c = model.coords(1000);
+            let (mut total_z, mut moment_x) = (0.0, 0.0);
+            for (node, force) in &node_force {
+                let x = model.coords(*node);
+                total_z += force[2];
+                moment_x += (x[1] - c[1]) * force[2] - (x[2] - c[2]) * force[1];
+            }
+            assert!((total_z - fz).abs() < 1e-8 * fz, "{kind:?}: {total_z}");
+            assert!((moment_x - mx).abs() < 1e-8 * fz, "{kind:?}: {moment_x}");
+        }
+    }
+
+    #[test]
+    fn bad_couplings_are_named() {
+        let check = |c: Coupling, needle: &str| {
+            let e = bar(2, false)
+                .with_couplings(vec![c])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("coupling 'c'") && e.contains(needle), "{e}");
+        };
+        let c = |kind, nodes: Vec<u64>| Coupling {
+            name: "c".into(),
+            kind,
+            point: 1000,
+            nodes,
+            weights: None,
+        };
+        check(c(CouplingKind::Rigid, vec![]), "empty");
+        check(c(CouplingKind::Distributing, vec![1, 5, 9]), "collinear");
+        check(
+            c(CouplingKind::Rigid, vec![1, 77]),
+            "node 77 does not exist",
+        );
+        let two = bar(2, false).with_couplings(vec![
+            c(CouplingKind::Rigid, vec![1, 2]),
+            Coupling {
+                point: 999,
+                ..c(CouplingKind::Rigid, vec![2, 3])
+            },
+        ]);
+        assert!(two.is_err());
+    }
+}
