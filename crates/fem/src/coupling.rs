@@ -213,7 +213,7 @@ impl Coupling {
 fn pick_columns(cols: &[[f64; 6]]) -> Option<[usize; 6]> {
     let mut basis: Vec<[f64; 6]> = Vec::new();
     let mut chosen = Vec::new();
-    let scale = cols.iter().map(|c| norm(c)).fold(0.0, f64::max);
+    let scale = cols.iter().map(norm).fold(0.0, f64::max);
     for _ in 0..6 {
         let residual = |c: &[f64; 6]| -> [f64; 6] {
             let mut v = *c;
