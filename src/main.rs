@@ -28,7 +28,7 @@ enum Command {
     Study {
         /// Model file (TOML).
         model: PathBuf,
-        /// Print the table as JSON: {"cases":[{"method","r","omega","err_w","err_m","err_q"}]}.
+        /// Print the table as JSON: {"cases":[{"method","r","omega","err_w","err_m","err_q","err_force","err_vm"}]} (err_m, err_q for beams; err_vm for solids).
         #[arg(long)]
         json: bool,
         /// Directory for the SVG plots (default: out/<model name>).
@@ -54,6 +54,10 @@ enum Command {
         /// Eigenmodes e (for `free`: the total r, rigid-body modes included).
         #[arg(long, default_value_t = 0)]
         modes: usize,
+        /// Instead of --modes: every eigenmode below this frequency (Hz), the
+        /// report's e = modes in the excitation band.
+        #[arg(long)]
+        fmax: Option<f64>,
         /// Reduced-body file to write.
         #[arg(long)]
         out: PathBuf,
@@ -162,6 +166,7 @@ fn run(cli: Cli) -> Result<()> {
             matrices,
             method,
             modes,
+            fmax,
             out,
             orthonormalize,
             json,
@@ -170,7 +175,7 @@ fn run(cli: Cli) -> Result<()> {
             interface.as_deref(),
             &matrices,
             method,
-            modes,
+            (modes, fmax),
             &out,
             orthonormalize,
             json,
@@ -200,7 +205,37 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         });
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("{}: cannot create directory", dir.display()))?;
-        for case in &result.cases {
+        for omega in result.references.iter().map(|(o, _)| *o) {
+            let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+            for c in result.cases.iter().filter(|c| c.row.omega == omega) {
+                let err = c
+                    .row
+                    .err_vm
+                    .or(c.row.err_q)
+                    .unwrap_or(c.row.err_force)
+                    .max(1e-17);
+                let name = c.row.method.name().to_string();
+                match series.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, pts)) => pts.push((c.row.r as f64, err)),
+                    None => series.push((name, vec![(c.row.r as f64, err)])),
+                }
+            }
+            let what = if result.cases.iter().any(|c| c.row.err_vm.is_some()) {
+                "von Mises at the most stressed nodes"
+            } else {
+                "shear force Q"
+            };
+            plot::plot_convergence(
+                &dir.join(format!("convergence_omega{}.svg", fmt_omega(omega))),
+                &format!(
+                    "error of {what} against r, Omega = {} rad/s",
+                    fmt_omega(omega)
+                ),
+                &series,
+            )
+            .map_err(anyhow::Error::msg)?;
+        }
+        for case in result.cases.iter().filter(|c| !c.reduced.m.x.is_empty()) {
             let reference = &result
                 .references
                 .iter()
@@ -236,20 +271,37 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         "reference: full model, {} DOFs; errors: max |reduced - reference| / max |reference|",
         file.model.dof_map().len()
     );
-    println!(
-        "{:<18} {:>4} {:>14} {:>10} {:>10} {:>10}",
-        "method", "r", "Omega (rad/s)", "err w", "err M", "err Q"
+    let rows = result.rows();
+    let beams = rows.first().is_some_and(|r| r.err_m.is_some());
+    let solids = rows.first().is_some_and(|r| r.err_vm.is_some());
+    let mut header = format!(
+        "{:<18} {:>4} {:>14} {:>10}",
+        "method", "r", "Omega (rad/s)", "err w"
     );
-    for row in result.rows() {
-        println!(
-            "{:<18} {:>4} {:>14} {:>10.2e} {:>10.2e} {:>10.2e}",
+    if beams {
+        header += &format!(" {:>10} {:>10}", "err M", "err Q");
+    }
+    header += &format!(" {:>10}", "err F");
+    if solids {
+        header += &format!(" {:>10}", "err vm");
+    }
+    println!("{header}");
+    for row in &rows {
+        let mut line = format!(
+            "{:<18} {:>4} {:>14} {:>10.2e}",
             row.method.name(),
             row.r,
             fmt_omega(row.omega),
-            row.err_w,
-            row.err_m,
-            row.err_q
+            row.err_w
         );
+        if let (Some(m), Some(q)) = (row.err_m, row.err_q) {
+            line += &format!(" {m:>10.2e} {q:>10.2e}");
+        }
+        line += &format!(" {:>10.2e}", row.err_force);
+        if let Some(v) = row.err_vm {
+            line += &format!(" {v:>10.2e}");
+        }
+        println!("{line}");
     }
     if let Some(dir) = plots {
         println!("plots: {}", dir.display());
@@ -277,16 +329,23 @@ fn run_reduce(
     interface: Option<&str>,
     matrices: &MatrixArgs,
     method: Method,
-    modes: usize,
+    (modes, fmax): (usize, Option<f64>),
     out: &Path,
     orthonormalize: bool,
     json: bool,
 ) -> Result<()> {
     let c = load(model, matrices)?;
     let mut spec = Reduction::new(method, modes, c.interface(interface)?);
+    spec.max_frequency_hz = fmax;
     if let Some(file) = &c.file {
         spec.support = file.support.clone();
         spec.springs = file.ground_springs();
+        if !matches!(
+            method,
+            Method::CraigBampton | Method::Guyan | Method::ElasticResidual
+        ) {
+            spec.force_groups = file.force_groups.clone();
+        }
     }
     spec.orthonormalize = orthonormalize;
     let body = reduce(&c.sub, &spec)?;

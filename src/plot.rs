@@ -210,3 +210,73 @@ pub fn plot_panels(
     })?;
     std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
+
+/// Error against r, one line per method, logarithmic error axis.
+pub fn plot_convergence(
+    path: &Path,
+    title: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> Result<(), String> {
+    let tmp = path.with_extension("svg.tmp");
+    let result = (|| -> DrawResult {
+        let root = SVGBackend::new(&tmp, (900, 600)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let pts = series.iter().flat_map(|(_, p)| p.iter());
+        let (r0, r1, e0, e1) = pts.fold(
+            (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ),
+            |(a, b, c, d), (r, e)| (a.min(*r), b.max(*r), c.min(*e), d.max(*e)),
+        );
+        let (r0, r1) = if r0.is_finite() {
+            (r0 - 1.0, r1 + 1.0)
+        } else {
+            (0.0, 1.0)
+        };
+        let (e0, e1) = if e0.is_finite() {
+            (e0 / 3.0, e1 * 3.0)
+        } else {
+            (1e-3, 1.0)
+        };
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(15)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(r0..r1, (e0..e1).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("r (Ritz coordinates)")
+            .y_desc("relative error")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()?;
+        for (k, (name, points)) in series.iter().enumerate() {
+            let color = PALETTE[k % PALETTE.len()];
+            let mut pts = points.clone();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
+                .label(name.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, color.filled())))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        root.present()?;
+        Ok(())
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("{}: cannot draw: {e}", path.display())
+    })?;
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}

@@ -8,7 +8,7 @@ use crate::fem::{Element, FemError, Substructure};
 use crate::io::{BodySource, ModelFile, SimulationSpec};
 use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
-use crate::reduce::{reduce, ReduceError, ReducedBody, Reduction};
+use crate::reduce::{reduce, Method, ReduceError, ReducedBody, Reduction};
 
 /// Named histories sampled at common times (SI units).
 #[derive(Clone, Debug, Default)]
@@ -63,6 +63,12 @@ pub fn simulation_body(
             let mut r = Reduction::new(*method, *modes, file.interface.clone());
             r.support = file.support.clone();
             r.springs = file.ground_springs();
+            if !matches!(
+                method,
+                Method::CraigBampton | Method::Guyan | Method::ElasticResidual
+            ) {
+                r.force_groups = file.force_groups.clone();
+            }
             reduce(sub, &r)?
         }
         BodySource::File(path) => {

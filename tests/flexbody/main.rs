@@ -6,6 +6,7 @@ mod cli;
 mod decks;
 mod exchange;
 mod export;
+mod interfaces;
 mod study;
 mod vehicle;
 
@@ -28,6 +29,15 @@ pub fn side_beam_text() -> String {
 pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure, ReducedBody) {
     let file = read_model_file(&side_beam_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body = reduce_case(&file, &sub, &CaseSpec { method, modes }).unwrap();
+    let body = reduce_case(
+        &file,
+        &sub,
+        &CaseSpec {
+            method,
+            modes,
+            fmax: None,
+        },
+    )
+    .unwrap();
     (file, sub, body)
 }

@@ -30,8 +30,16 @@ fn side_beam_study_shows_the_reports_findings() {
     // Free eigenmodes only (6.3): w is fine, the static shear force is not.
     let free7 = row(&rows, Method::Free, 7, STATIC);
     let free40 = row(&rows, Method::Free, 40, STATIC);
-    assert!(free7.err_q > 0.1, "free 7 static Q {}", free7.err_q);
-    assert!(free40.err_q > 0.03, "free 40 static Q {}", free40.err_q);
+    assert!(
+        free7.err_q.unwrap() > 0.1,
+        "free 7 static Q {}",
+        free7.err_q.unwrap()
+    );
+    assert!(
+        free40.err_q.unwrap() > 0.03,
+        "free 40 static Q {}",
+        free40.err_q.unwrap()
+    );
     assert!(
         free7.err_w < 1e-3 && free40.err_w < 1e-6,
         "{} {}",
@@ -43,18 +51,21 @@ fn side_beam_study_shows_the_reports_findings() {
     // one mode, acceptable with 13.
     let cb5s = row(&rows, Method::CraigBampton, 5, STATIC);
     assert!(
-        cb5s.err_w.max(cb5s.err_m).max(cb5s.err_q) < 1e-6,
+        cb5s.err_w.max(cb5s.err_m.unwrap()).max(cb5s.err_q.unwrap()) < 1e-6,
         "{cb5s:?}"
     );
-    assert!(row(&rows, Method::CraigBampton, 5, HEAVE).err_q > 0.2);
-    assert!(row(&rows, Method::CraigBampton, 17, HEAVE).err_q < 0.05);
+    assert!(row(&rows, Method::CraigBampton, 5, HEAVE).err_q.unwrap() > 0.2);
+    assert!(row(&rows, Method::CraigBampton, 17, HEAVE).err_q.unwrap() < 0.05);
 
     // Elastic-residual 4 + 1 (6.5) and free-residual 2 + 4 + 1 (6.6): right
     // at both frequencies, in w, M and Q.
     for (method, r) in [(Method::ElasticResidual, 5), (Method::FreeResidual, 7)] {
         for omega in [STATIC, HEAVE] {
             let c = row(&rows, method, r, omega);
-            assert!(c.err_w.max(c.err_m).max(c.err_q) < 1e-3, "{c:?}");
+            assert!(
+                c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < 1e-3,
+                "{c:?}"
+            );
         }
     }
 }
@@ -76,24 +87,31 @@ fn complete_bases_reproduce_the_full_model() {
             CaseSpec {
                 method: Method::Free,
                 modes: 42,
+                fmax: None,
             },
             CaseSpec {
                 method: Method::CraigBampton,
                 modes: 38,
+                fmax: None,
             },
             CaseSpec {
                 method: Method::FreeResidual,
                 modes: 36,
+                fmax: None,
             },
             CaseSpec {
                 method: Method::ElasticResidual,
                 modes: 38,
+                fmax: None,
             },
         ],
     };
     for c in run_cases(&file, &spec).unwrap().rows() {
         assert_eq!(c.r, 42);
-        assert!(c.err_w.max(c.err_m).max(c.err_q) < COMPLETE, "{c:?}");
+        assert!(
+            c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < COMPLETE,
+            "{c:?}"
+        );
     }
 }
 
@@ -209,10 +227,12 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
             CaseSpec {
                 method: Method::FreeResidual,
                 modes: 1,
+                fmax: None,
             },
             CaseSpec {
                 method: Method::Free,
                 modes: 42,
+                fmax: None,
             },
         ],
     };
@@ -223,7 +243,10 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
         } else {
             1e-3
         };
-        assert!(c.err_w.max(c.err_m).max(c.err_q) < tol, "{c:?}");
+        assert!(
+            c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < tol,
+            "{c:?}"
+        );
     }
 }
 
@@ -269,10 +292,12 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
             CaseSpec {
                 method: Method::Free,
                 modes: 42,
+                fmax: None,
             },
             CaseSpec {
                 method: Method::FreeResidual,
                 modes: 1,
+                fmax: None,
             },
         ],
     };
@@ -286,7 +311,10 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
         } else {
             1e-3
         };
-        assert!(c.err_w.max(c.err_m).max(c.err_q) < tol, "{c:?}");
+        assert!(
+            c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < tol,
+            "{c:?}"
+        );
     }
 }
 

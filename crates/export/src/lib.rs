@@ -1,8 +1,28 @@
-//! Reduced-body files. A [`ReducedBody`] becomes a self-describing JSON
-//! document (units, DOF map, method, modes, frequencies, matrices); the reader
-//! checks every count and names what is wrong. Writers go through
-//! [`write_atomically`]: a temporary file beside the target, renamed on
-//! success, so a failed write never leaves a half-written file.
+//! Reduced-body files. A [`ReducedBody`] becomes
+//!
+//! - a self-describing JSON document (units, DOF map, method, modes,
+//!   frequencies, matrices), this module;
+//! - a Standard Input Data file (SID, Wallrapp 1994) in the floating frame
+//!   of reference formulation, [`sid`] with the invariants in [`ffrf`];
+//! - a folder of Matrix Market files with a JSON index, [`mtx`], for large
+//!   bodies;
+//! - a VTK unstructured grid with the mode shapes and modal stresses for
+//!   ParaView, [`vtk`].
+//!
+//! [`write()`] and [`read_any`] pick the format; [`summary`] describes a body
+//! in a few lines. Readers check every count and name the block and line of
+//! what is wrong. Writers go through [`write_atomically`]: a temporary file
+//! beside the target, renamed on success, so a failed write never leaves a
+//! half-written file.
+
+pub mod ffrf;
+pub mod format;
+pub mod mtx;
+pub mod sid;
+pub mod vtk;
+
+pub use format::{read_any, summary, write, AnyBody, Format};
+pub use sid::{read_sid, write_sid, Sid};
 
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap};
@@ -30,6 +50,12 @@ pub enum ExportError {
     Format { path: PathBuf, message: String },
     #[error("refusing to write a non-finite value in {0}")]
     NonFinite(&'static str),
+    #[error("refusing to write a non-finite value in {0}")]
+    NonFiniteIn(String),
+    /// The model and the body do not fit together, or the body cannot be
+    /// expressed in the requested format.
+    #[error("{0}")]
+    Model(String),
 }
 
 /// Writes `bytes` to `path` through a temporary file and a rename.
@@ -131,28 +157,38 @@ impl BodyFile {
         })
     }
 
-    /// Back to a [`ReducedBody`], checking every count.
+    /// Back to a [`ReducedBody`], checking every count; errors name the
+    /// block (the JSON key) that is wrong.
     pub fn into_body(self, path: &Path) -> Result<ReducedBody, ExportError> {
-        let bad = |message: String| ExportError::Format {
-            path: path.to_path_buf(),
-            message,
-        };
+        self.checked()
+            .map_err(|(block, message)| ExportError::Format {
+                path: path.to_path_buf(),
+                message: format!("block '{block}': {message}"),
+            })
+    }
+
+    /// The body, or the block and message of the first inconsistency.
+    fn checked(self) -> Result<ReducedBody, (&'static str, String)> {
         if self.format != FORMAT {
-            return Err(bad(format!("format '{}' is not {FORMAT}", self.format)));
+            return Err((
+                "format",
+                format!("format '{}' is not {FORMAT}", self.format),
+            ));
         }
         let r = self.r;
-        let square = |m: &Vec<Vec<f64>>, what: &str| -> Result<Mat<f64>, ExportError> {
-            if m.len() != r {
-                return Err(bad(format!("{what} has {} rows, r = {r}", m.len())));
-            }
-            if let Some((i, row)) = m.iter().enumerate().find(|(_, row)| row.len() != r) {
-                return Err(bad(format!(
-                    "{what} row {i} has {} entries, r = {r}",
-                    row.len()
-                )));
-            }
-            Ok(Mat::from_fn(r, r, |i, j| m[i][j]))
-        };
+        let square =
+            |m: &Vec<Vec<f64>>, what: &'static str| -> Result<Mat<f64>, (&'static str, String)> {
+                if m.len() != r {
+                    return Err((what, format!("{what} has {} rows, r = {r}", m.len())));
+                }
+                if let Some((i, row)) = m.iter().enumerate().find(|(_, row)| row.len() != r) {
+                    return Err((
+                        what,
+                        format!("{what} row {i} has {} entries, r = {r}", row.len()),
+                    ));
+                }
+                Ok(Mat::from_fn(r, r, |i, j| m[i][j]))
+            };
         let mass = square(&self.mass, "mass")?;
         let stiffness = square(&self.stiffness, "stiffness")?;
         let damping = self
@@ -161,11 +197,14 @@ impl BodyFile {
             .map(|d| square(d, "damping"))
             .transpose()?;
         if self.basis.len() != self.dofs.len() {
-            return Err(bad(format!(
-                "basis has {} rows for {} DOFs",
-                self.basis.len(),
-                self.dofs.len()
-            )));
+            return Err((
+                "basis",
+                format!(
+                    "basis has {} rows for {} DOFs",
+                    self.basis.len(),
+                    self.dofs.len()
+                ),
+            ));
         }
         if let Some((i, row)) = self
             .basis
@@ -173,17 +212,20 @@ impl BodyFile {
             .enumerate()
             .find(|(_, row)| row.len() != r)
         {
-            return Err(bad(format!(
-                "basis row {i} ({}) has {} entries, r = {r}",
-                self.dofs[i],
-                row.len()
-            )));
+            return Err((
+                "basis",
+                format!(
+                    "basis row {i} ({}) has {} entries, r = {r}",
+                    self.dofs[i],
+                    row.len()
+                ),
+            ));
         }
         if self.modes.len() != r {
-            return Err(bad(format!(
-                "{} mode descriptions for r = {r}",
-                self.modes.len()
-            )));
+            return Err((
+                "modes",
+                format!("{} mode descriptions for r = {r}", self.modes.len()),
+            ));
         }
         let basis = Mat::from_fn(self.dofs.len(), r, |i, j| self.basis[i][j]);
         let dof_map = DofMap::new(self.dofs);
@@ -192,9 +234,10 @@ impl BodyFile {
             .iter()
             .find(|d| dof_map.index_of(**d).is_none())
         {
-            return Err(bad(format!(
-                "interface DOF {d} is not among the body's DOFs"
-            )));
+            return Err((
+                "interface",
+                format!("interface DOF {d} is not among the body's DOFs"),
+            ));
         }
         Ok(ReducedBody {
             method: self.method,
@@ -207,6 +250,25 @@ impl BodyFile {
             interface: self.interface,
         })
     }
+}
+
+/// Line (1-based) of the top-level key `key` in a pretty-printed JSON text.
+pub(crate) fn json_key_line(text: &str, key: &str) -> Option<usize> {
+    let pattern = format!("\"{key}\":");
+    text.lines()
+        .position(|l| l.starts_with("  \"") && l.trim_start().starts_with(&pattern))
+        .map(|i| i + 1)
+}
+
+/// The top-level key of a pretty-printed JSON text that `line` is in.
+pub(crate) fn json_block_at(text: &str, line: usize) -> String {
+    text.lines()
+        .take(line)
+        .filter(|l| l.starts_with("  \"") && !l.starts_with("   "))
+        .filter_map(|l| l.trim_start().strip_prefix('"')?.split('"').next())
+        .last()
+        .unwrap_or("document")
+        .to_string()
 }
 
 /// Writes `body` as JSON to `path` (atomically).
@@ -226,7 +288,18 @@ pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
     })?;
     let doc: BodyFile = serde_json::from_str(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
-        message: format!("line {}: {e}", e.line()),
+        message: format!(
+            "line {}, block '{}': {e}",
+            e.line(),
+            json_block_at(&text, e.line())
+        ),
     })?;
-    doc.into_body(path)
+    doc.checked()
+        .map_err(|(block, message)| ExportError::Format {
+            path: path.to_path_buf(),
+            message: match json_key_line(&text, block) {
+                Some(line) => format!("line {line}, block '{block}': {message}"),
+                None => format!("block '{block}': {message}"),
+            },
+        })
 }

@@ -6,12 +6,12 @@
 use crate::InputError;
 use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
 use flexbody_fem::{
-    BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, Rayleigh,
-    SectionShape,
+    BeamProperties, BeamTheory, Coupling, CouplingKind, Dof, DofKind, Element, Material, Model,
+    Node, Rayleigh, SectionShape,
 };
 use flexbody_mbs::time::{Excitation, History, Profile, TimeForce, TimeSettings};
 use flexbody_mbs::{Connection, Endpoint, ForceLaw, RigidBody, Track};
-use flexbody_reduce::{GroundSpring, Method};
+use flexbody_reduce::{ForceGroup, GroundSpring, Method};
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -25,6 +25,9 @@ pub struct CaseSpec {
     /// Eigenmodes e; for `free` the total r including rigid-body modes.
     #[serde(default)]
     pub modes: usize,
+    /// Or: every eigenmode below this frequency (Hz).
+    #[serde(default)]
+    pub fmax: Option<f64>,
 }
 
 /// The `[study]` table: cases and excitation frequencies.
@@ -45,6 +48,8 @@ pub struct ModelFile {
     pub interface: Vec<Dof>,
     /// Statically determinate support for inertia-relief modes, if given.
     pub support: Option<Vec<Dof>>,
+    /// Force groups replacing unit loads (report section 7), if given.
+    pub force_groups: Vec<ForceGroup>,
     /// Rigid bodies that move (held ones are ground).
     pub rigid_bodies: Vec<RigidBody>,
     /// Connections; flexible endpoints refer to body 0, the model.
@@ -116,6 +121,10 @@ impl ModelFile {
 #[serde(deny_unknown_fields)]
 struct RawFile {
     title: Option<String>,
+    /// An Abaqus/CalculiX deck with the FE model (relative to this file).
+    mesh: Option<Spanned<String>>,
+    #[serde(default)]
+    coupling: Vec<Spanned<RawCoupling>>,
     #[serde(default)]
     material: Vec<RawMaterial>,
     #[serde(default)]
@@ -318,6 +327,41 @@ struct RawInterface {
     nodes: Vec<Spanned<u64>>,
     #[serde(default)]
     support: Option<Vec<Spanned<RawDof>>>,
+    #[serde(default)]
+    force_groups: Vec<Spanned<RawForceGroup>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCoupling {
+    name: String,
+    kind: CouplingKind,
+    /// The interface point: a new node with 6 DOFs.
+    point: u64,
+    /// Its position (m); default: the centroid of the set.
+    #[serde(default)]
+    position: Option<[f64; 3]>,
+    #[serde(default)]
+    set: Option<String>,
+    #[serde(default)]
+    nodes: Option<Vec<u64>>,
+    #[serde(default)]
+    weights: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawForceGroup {
+    name: String,
+    loads: Vec<RawLoad>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLoad {
+    node: u64,
+    dof: DofKind,
+    value: f64,
 }
 
 #[derive(Deserialize)]
@@ -608,6 +652,29 @@ impl Context<'_> {
                 sets.entry(set.clone()).or_default().extend(ids);
             }
         }
+        // The mesh of a deck, if given.
+        let mut deck_fixed: Vec<Dof> = Vec::new();
+        if let Some(mesh) = &raw.mesh {
+            let deck_path = self
+                .path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(mesh.get_ref());
+            let deck = crate::deck::read_deck(&deck_path)?;
+            let offset = mesh.span().start;
+            for n in deck.model.nodes() {
+                add_node(n.id, n.coords, offset, &mut nodes)?;
+            }
+            for e in deck.model.elements() {
+                self.add_element(e.clone(), offset, &mut elements, &mut element_line)?;
+            }
+            for (name, set) in deck.model.node_sets() {
+                sets.entry(name.clone())
+                    .or_default()
+                    .extend(set.iter().copied());
+            }
+            deck_fixed = deck.model.fixed_dofs().copied().collect();
+        }
         let known: HashSet<u64> = nodes.iter().map(|n| n.id).collect();
         let check_node = |node: u64, offset: usize, what: &str| -> Result<(), InputError> {
             if known.contains(&node) {
@@ -712,27 +779,92 @@ impl Context<'_> {
                     .map(|k| Dof::new(b.get_ref().node, *k)),
             );
         }
-        let model = Model::new(nodes, elements, sets, fixed.clone(), raw.damping).map_err(|e| {
-            // Point at the element or boundary line where we can.
-            let line = match &e {
-                flexbody_fem::FemError::ZeroLength { element }
-                | flexbody_fem::FemError::PlanarBeamNotAlongX { element }
-                | flexbody_fem::FemError::OrientationParallel { element, .. } => {
-                    element_line.get(element).copied()
+        fixed.extend(deck_fixed);
+        // Interface points: new nodes coupled to node sets (RBE2/RBE3).
+        let mut couplings = Vec::new();
+        for c in &raw.coupling {
+            let r = c.get_ref();
+            let what = format!("coupling '{}'", r.name);
+            let members: Vec<u64> = match (&r.set, &r.nodes) {
+                (Some(set), None) => {
+                    let key = sets.keys().find(|k| k.eq_ignore_ascii_case(set)).cloned();
+                    match key {
+                        Some(k) => sets[&k].clone(),
+                        None => {
+                            return Err(
+                                self.at(c, format!("{what}: node set '{set}' does not exist"))
+                            )
+                        }
+                    }
                 }
-                flexbody_fem::FemError::UnknownDof { node, .. } => raw
-                    .boundary
-                    .iter()
-                    .find(|b| b.get_ref().node == *node)
-                    .map(|b| self.line(b.span().start)),
-                _ => None,
+                (None, Some(list)) => list.clone(),
+                _ => return Err(self.at(c, format!("{what}: give either `set` or `nodes`"))),
             };
-            InputError::Invalid {
-                path: self.path.to_path_buf(),
-                line,
-                message: e.to_string(),
+            if members.is_empty() {
+                return Err(self.at(c, format!("{what}: its node set is empty")));
             }
-        })?;
+            for n in &members {
+                check_node(*n, c.span().start, &what)?;
+            }
+            let position = match r.position {
+                Some(p) => p,
+                None => {
+                    let mut p = [0.0; 3];
+                    for n in &members {
+                        let x = nodes
+                            .iter()
+                            .find(|x| x.id == *n)
+                            .map_or([0.0; 3], |x| x.coords);
+                        for k in 0..3 {
+                            p[k] += x[k] / members.len() as f64;
+                        }
+                    }
+                    p
+                }
+            };
+            add_node(r.point, position, c.span().start, &mut nodes)?;
+            couplings.push((
+                c.span().start,
+                Coupling {
+                    name: r.name.clone(),
+                    kind: r.kind,
+                    point: r.point,
+                    nodes: members,
+                    weights: r.weights.clone(),
+                },
+            ));
+        }
+        let coupling_lines: Vec<(String, usize)> = couplings
+            .iter()
+            .map(|(o, c)| (c.name.clone(), self.line(*o)))
+            .collect();
+        let model = Model::new(nodes, elements, sets, fixed.clone(), raw.damping)
+            .and_then(|m| m.with_couplings(couplings.into_iter().map(|(_, c)| c).collect()))
+            .map_err(|e| {
+                // Point at the element or boundary line where we can.
+                let line = match &e {
+                    flexbody_fem::FemError::ZeroLength { element }
+                    | flexbody_fem::FemError::PlanarBeamNotAlongX { element }
+                    | flexbody_fem::FemError::OrientationParallel { element, .. } => {
+                        element_line.get(element).copied()
+                    }
+                    flexbody_fem::FemError::UnknownDof { node, .. } => raw
+                        .boundary
+                        .iter()
+                        .find(|b| b.get_ref().node == *node)
+                        .map(|b| self.line(b.span().start)),
+                    flexbody_fem::FemError::InvalidCoupling { name, .. } => coupling_lines
+                        .iter()
+                        .find(|(n, _)| n == name)
+                        .map(|(_, l)| *l),
+                    _ => None,
+                };
+                InputError::Invalid {
+                    path: self.path.to_path_buf(),
+                    line,
+                    message: e.to_string(),
+                }
+            })?;
         // Element geometry errors (zero length, orientation) with their line,
         // before any computation starts.
         for e in model.elements() {
@@ -803,7 +935,12 @@ impl Context<'_> {
             // End b: a node of the flexible body, or a rigid body.
             let (b, b_pos) = match (r.node, &r.body) {
                 (Some(node), None) => {
-                    check_node(node, offset, &what)?;
+                    if model.node(node).is_none() {
+                        return Err(self.error(
+                            Some(offset),
+                            format!("{what} refers to node {node}, which does not exist"),
+                        ));
+                    }
                     for (k, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
                         .into_iter()
                         .enumerate()
@@ -871,7 +1008,12 @@ impl Context<'_> {
         // Interface: given, or what the connections act on.
         let check_dof = |d: &Spanned<RawDof>, what: &str| -> Result<Dof, InputError> {
             let dof = Dof::new(d.get_ref().node, d.get_ref().dof);
-            check_node(dof.node, d.span().start, what)?;
+            if model.node(dof.node).is_none() {
+                return Err(self.error(
+                    Some(d.span().start),
+                    format!("{what} refers to node {}, which does not exist", dof.node),
+                ));
+            }
             if model.dof_map().index_of(dof).is_none() {
                 return Err(self.at(d, format!("{what}: {dof} is not a free DOF of the model")));
             }
@@ -879,12 +1021,21 @@ impl Context<'_> {
         };
         let mut interface: Vec<Dof> = Vec::new();
         let mut support = None;
+        let mut force_groups = Vec::new();
         if let Some(i) = &raw.interface {
             for d in &i.dofs {
                 interface.push(check_dof(d, "interface")?);
             }
             for n in &i.nodes {
-                check_node(*n.get_ref(), n.span().start, "interface")?;
+                if model.node(*n.get_ref()).is_none() {
+                    return Err(self.error(
+                        Some(n.span().start),
+                        format!(
+                            "interface refers to node {}, which does not exist",
+                            n.get_ref()
+                        ),
+                    ));
+                }
                 interface.extend(
                     model
                         .dof_map()
@@ -892,6 +1043,36 @@ impl Context<'_> {
                         .into_iter()
                         .map(|(k, _)| Dof::new(*n.get_ref(), k)),
                 );
+            }
+            for g in &i.force_groups {
+                let r = g.get_ref();
+                let mut loads = Vec::new();
+                for l in &r.loads {
+                    let dof = Dof::new(l.node, l.dof);
+                    if model.dof_map().index_of(dof).is_none() {
+                        return Err(self.at(
+                            g,
+                            format!(
+                                "force group '{}': {dof} is not a free DOF of the model",
+                                r.name
+                            ),
+                        ));
+                    }
+                    if !l.value.is_finite() {
+                        return Err(self.at(
+                            g,
+                            format!("force group '{}': load {} is not finite", r.name, l.value),
+                        ));
+                    }
+                    loads.push((dof, l.value));
+                }
+                if loads.is_empty() {
+                    return Err(self.at(g, format!("force group '{}' has no loads", r.name)));
+                }
+                force_groups.push(ForceGroup {
+                    name: r.name.clone(),
+                    loads,
+                });
             }
             if let Some(s) = &i.support {
                 support = Some(
@@ -938,6 +1119,11 @@ impl Context<'_> {
                     }
                 }
                 for c in &s.cases {
+                    if let Some(f) = c.get_ref().fmax {
+                        if !(f.is_finite() && f > 0.0) || c.get_ref().modes > 0 {
+                            return Err(self.at(c, "study: fmax must be a positive frequency (Hz), given instead of modes"));
+                        }
+                    }
                     if c.get_ref().method == Method::Guyan && c.get_ref().modes > 0 {
                         return Err(
                             self.at(c, "study: the guyan method takes no eigenmodes (modes = 0)")
@@ -973,6 +1159,7 @@ impl Context<'_> {
             model,
             interface,
             support,
+            force_groups,
             rigid_bodies,
             connections,
             track: raw.track,

@@ -19,6 +19,8 @@ pub enum ModeKind {
     ResidualConstraint { dof: Dof },
     /// Residual inertia-relief attachment mode (eq. 20, 23-24).
     ResidualInertiaRelief { dof: Dof },
+    /// Residual inertia-relief attachment mode of a force group (report 7).
+    ResidualForceGroup { name: String },
     /// Eigenmode; `frequency_hz` of the problem it came from.
     Eigen { frequency_hz: f64 },
     /// Column of an orthonormalised basis with its frequency.

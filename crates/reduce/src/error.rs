@@ -59,6 +59,12 @@ pub enum ReduceError {
     GuyanWithModes(usize),
     #[error("method free needs at least one mode")]
     NoModes,
+    #[error("force groups replace unit loads of attachment and inertia-relief modes; method {0} uses constraint modes (unit displacements), where groups do not apply")]
+    ForceGroupsNotApplicable(&'static str),
+    #[error("force group '{name}': {reason}")]
+    ForceGroup { name: String, reason: String },
+    #[error("both a number of modes ({0}) and a frequency band are given; give one")]
+    ModesAndBand(usize),
     #[error(
         "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); the sparse Lanczos solver is not built yet"
     )]

@@ -16,7 +16,7 @@ pub mod modes;
 
 pub use body::{ModeKind, ReducedBody};
 pub use error::ReduceError;
-pub use method::{reduce, GroundSpring, Method, Reduction};
+pub use method::{reduce, ForceGroup, GroundSpring, Method, Reduction};
 
 #[cfg(test)]
 mod tests;

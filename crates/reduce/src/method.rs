@@ -79,6 +79,16 @@ pub struct GroundSpring {
     pub stiffness: f64,
 }
 
+/// A force group ("Kraftgruppe", report section 7): a load pattern on
+/// interface DOFs used instead of single unit loads, to cut r on bodies with
+/// many interface points.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ForceGroup {
+    pub name: String,
+    /// `(DOF, load)` pairs (N or N m per unit of the group's amplitude).
+    pub loads: Vec<(Dof, f64)>,
+}
+
 /// What to reduce and how.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reduction {
@@ -94,6 +104,13 @@ pub struct Reduction {
     pub springs: Vec<GroundSpring>,
     /// Rotate the basis so that `M_red = I`, `K_red` diagonal.
     pub orthonormalize: bool,
+    /// Load patterns replacing the unit loads of attachment and
+    /// inertia-relief modes (empty: unit loads at the interface DOFs).
+    pub force_groups: Vec<ForceGroup>,
+    /// Keep every eigenmode below this frequency (Hz) instead of `modes`
+    /// (the report's e = modes in the excitation band; for `free`, rigid
+    /// modes included).
+    pub max_frequency_hz: Option<f64>,
 }
 
 impl Reduction {
@@ -105,6 +122,8 @@ impl Reduction {
             support: None,
             springs: Vec::new(),
             orthonormalize: false,
+            force_groups: Vec::new(),
+            max_frequency_hz: None,
         }
     }
 }
@@ -120,7 +139,45 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
         return Err(ReduceError::NoInterface(spec.method.name()));
     }
     let rigid = free_body_rigid_modes(sub)?;
-    let e = spec.modes;
+    if !spec.force_groups.is_empty()
+        && matches!(
+            spec.method,
+            Method::CraigBampton | Method::Guyan | Method::ElasticResidual
+        )
+    {
+        return Err(ReduceError::ForceGroupsNotApplicable(spec.method.name()));
+    }
+    if spec.max_frequency_hz.is_some() && spec.modes > 0 {
+        return Err(ReduceError::ModesAndBand(spec.modes));
+    }
+    // Eigenmodes in the band: count them on the problem the method uses.
+    let e = match spec.max_frequency_hz {
+        None => spec.modes,
+        Some(f) => {
+            let (kb, mb, skip) = match spec.method {
+                Method::Free => (k.clone(), m.clone(), 0),
+                Method::FreeResidual => (k.clone(), m.clone(), rigid.count()),
+                Method::ElasticResidual => (
+                    sparse::add_scaled(k, 1.0, &support_stiffness(sub, &spec.springs)?)?,
+                    m.clone(),
+                    0,
+                ),
+                Method::CraigBampton | Method::Guyan => {
+                    let interior = modes::complement(&boundary, map.len());
+                    (
+                        sparse::submatrix(k, &interior, &interior),
+                        sparse::submatrix(m, &interior, &interior),
+                        0,
+                    )
+                }
+            };
+            if spec.method == Method::Guyan {
+                0
+            } else {
+                count_below(&kb, &mb, f)?.saturating_sub(skip)
+            }
+        }
+    };
     let (basis, kinds) = match spec.method {
         Method::Free => {
             if e == 0 {
@@ -174,7 +231,11 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
                     statically_determinate_support(&rigid, &preferred)
                 }
             };
-            let loads = unit_loads(map.len(), &boundary);
+            let loads = if spec.force_groups.is_empty() {
+                unit_loads(map.len(), &boundary)
+            } else {
+                group_loads(sub, &spec.force_groups)?
+            };
             let t_a = inertia_relief_attachment_modes(k, m, &rigid, &loads, &support, map)?;
             let all = eigenmodes(k, m, nr + e.max(1).min(map.len().saturating_sub(nr)))?;
             check_gap(&all.values, nr)?;
@@ -187,11 +248,21 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
                 .iter()
                 .map(|k| ModeKind::Rigid { motion: k.clone() })
                 .collect();
-            kinds.extend(
-                boundary
-                    .iter()
-                    .map(|&i| ModeKind::ResidualInertiaRelief { dof: map.dof(i) }),
-            );
+            if spec.force_groups.is_empty() {
+                kinds.extend(
+                    boundary
+                        .iter()
+                        .map(|&i| ModeKind::ResidualInertiaRelief { dof: map.dof(i) }),
+                );
+            } else {
+                kinds.extend(
+                    spec.force_groups
+                        .iter()
+                        .map(|g| ModeKind::ResidualForceGroup {
+                            name: g.name.clone(),
+                        }),
+                );
+            }
             kinds.extend(eigen_kinds(&phi));
             (concat(&[&rigid.vectors, &res, &phi.vectors]), kinds)
         }
@@ -213,6 +284,52 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
         Ok(body.orthonormalized()?)
     } else {
         Ok(body)
+    }
+}
+
+/// The load matrix of force groups (m x groups).
+fn group_loads(sub: &Substructure, groups: &[ForceGroup]) -> Result<Mat<f64>, ReduceError> {
+    let mut p = Mat::zeros(sub.len(), groups.len());
+    for (j, g) in groups.iter().enumerate() {
+        if g.loads.is_empty() {
+            return Err(ReduceError::ForceGroup {
+                name: g.name.clone(),
+                reason: "it has no loads".into(),
+            });
+        }
+        for (dof, value) in &g.loads {
+            let i = sub
+                .dof_map
+                .index_of(*dof)
+                .ok_or_else(|| ReduceError::ForceGroup {
+                    name: g.name.clone(),
+                    reason: format!("{dof} is not a free DOF of the model"),
+                })?;
+            if !value.is_finite() {
+                return Err(ReduceError::ForceGroup {
+                    name: g.name.clone(),
+                    reason: format!("load {value} at {dof} is not finite"),
+                });
+            }
+            p[(i, j)] += value;
+        }
+    }
+    Ok(p)
+}
+
+/// Number of eigenvalues of `(k, m)` below `(2 pi f)^2`: more modes are
+/// requested until one lies above the band.
+fn count_below(k: &SparseMat, m: &SparseMat, f_hz: f64) -> Result<usize, ReduceError> {
+    let limit = (2.0 * std::f64::consts::PI * f_hz).powi(2);
+    let n = k.nrows();
+    let mut want = 16.min(n);
+    loop {
+        let modes = eigenmodes(k, m, want)?;
+        let below = modes.values.iter().filter(|l| **l < limit).count();
+        if below < want || want == n {
+            return Ok(below);
+        }
+        want = (2 * want).min(n);
     }
 }
 

@@ -1,0 +1,232 @@
+//! Choosing a reduced-body format: [`write()`] by [`Format`], [`read_any`] by
+//! what the path holds, and [`summary`] for `flexbody inspect`.
+
+use crate::sid::{read_sid, write_sid, Sid};
+use crate::{mtx, read_json, write_json, ExportError};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use flexbody_fem::{DofKind, Model, Substructure};
+use flexbody_reduce::ReducedBody;
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A reduced-body file format.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// One JSON document (`flexbody-reduced-body/1`), for small bodies.
+    Json,
+    /// Standard Input Data (FFRF invariants), for MBS codes.
+    Sid,
+    /// A folder of Matrix Market files and `index.json`, for large bodies.
+    Mtx,
+}
+
+impl Format {
+    /// All formats, by name.
+    pub const ALL: [Format; 3] = [Format::Json, Format::Sid, Format::Mtx];
+
+    /// The CLI name: `json`, `sid`, `mtx`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Json => "json",
+            Format::Sid => "sid",
+            Format::Mtx => "mtx",
+        }
+    }
+
+    /// Parses a CLI name (case-insensitive).
+    pub fn parse(name: &str) -> Option<Format> {
+        Format::ALL
+            .into_iter()
+            .find(|f| f.name().eq_ignore_ascii_case(name))
+    }
+}
+
+impl std::str::FromStr for Format {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Format::parse(s).ok_or_else(|| format!("unknown format '{s}' (json, sid or mtx)"))
+    }
+}
+
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Writes `body`, reduced from `sub` (and `model`, the mesh if known), to
+/// `path` in `format`: a file for JSON and SID, a folder for MTX. The SID
+/// needs `sub`'s mass matrix and node coordinates for its invariants and
+/// `model` for the stress rows; JSON needs neither; MTX stores the node
+/// coordinates of `sub` in its index.
+pub fn write(
+    body: &ReducedBody,
+    sub: &Substructure,
+    model: Option<&Model>,
+    format: Format,
+    path: &Path,
+) -> Result<(), ExportError> {
+    match format {
+        Format::Json => write_json(body, path),
+        Format::Sid => write_sid(sub, model, body, path),
+        Format::Mtx => mtx::write_mtx(body, Some(sub), &mtx::Metadata::default(), path),
+    }
+}
+
+/// A body read by [`read_any`].
+#[derive(Clone, Debug)]
+pub enum AnyBody {
+    /// From JSON or a Matrix Market folder: the full reduced body.
+    Reduced(Box<ReducedBody>),
+    /// From a SID file: the FFRF description (no full basis).
+    Sid(Box<Sid>),
+}
+
+impl AnyBody {
+    /// The summary `flexbody inspect` prints.
+    pub fn summary(&self) -> String {
+        match self {
+            AnyBody::Reduced(b) => summary(b),
+            AnyBody::Sid(s) => sid_summary(s),
+        }
+    }
+}
+
+/// Reads a reduced body from `path`, recognising the format: a folder (or
+/// its `index.json`) is a Matrix Market body, a file whose first significant
+/// line is `part` is a SID, any other file is read as JSON.
+pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
+    if path.is_dir() {
+        return mtx::read_mtx(path).map(|b| AnyBody::Reduced(Box::new(b)));
+    }
+    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'));
+    if first.is_some_and(|l| l.eq_ignore_ascii_case("part")) {
+        return read_sid(path).map(|s| AnyBody::Sid(Box::new(s)));
+    }
+    if text.contains(mtx::INDEX_FORMAT) {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        return mtx::read_mtx(dir).map(|b| AnyBody::Reduced(Box::new(b)));
+    }
+    read_json(path).map(|b| AnyBody::Reduced(Box::new(b)))
+}
+
+/// The mass of the rigid translation along `kind` that the basis spans,
+/// `a^T M_red a` with `T a` the translation (least squares), if it does.
+fn translation_mass(body: &ReducedBody, kind: DofKind) -> Option<f64> {
+    let m = body.basis.nrows();
+    let target: Vec<f64> = (0..m)
+        .map(|i| f64::from(u8::from(body.dof_map.dof(i).kind == kind)))
+        .collect();
+    let count: f64 = target.iter().sum();
+    if count == 0.0 || body.r() == 0 {
+        return None;
+    }
+    let t = &body.basis;
+    let rhs = Mat::from_fn(body.r(), 1, |j, _| {
+        (0..m).map(|i| t[(i, j)] * target[i]).sum()
+    });
+    let gram = t.transpose() * t;
+    let a = gram.llt(Side::Lower).ok()?.solve(&rhs);
+    let ta = t * &a;
+    let residual: f64 = (0..m).map(|i| (ta[(i, 0)] - target[i]).powi(2)).sum();
+    if residual > 1e-12 * count {
+        return None;
+    }
+    Some((a.transpose() * &body.mass * &a)[(0, 0)])
+}
+
+fn list_nodes(nodes: impl IntoIterator<Item = u64>) -> String {
+    let v: Vec<String> = nodes.into_iter().map(|n| n.to_string()).collect();
+    if v.len() > 20 {
+        format!(
+            "{} ... {} ({} nodes)",
+            v[..10].join(" "),
+            v[v.len() - 5..].join(" "),
+            v.len()
+        )
+    } else {
+        v.join(" ")
+    }
+}
+
+fn list_frequencies(f: &[f64]) -> String {
+    f.iter()
+        .map(|x| format!("{x:.4}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A few lines on `body`: method, r, DOFs, mass (if the basis holds a rigid
+/// translation), interface nodes and frequencies (Hz).
+pub fn summary(body: &ReducedBody) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "method: {}", body.method);
+    let _ = writeln!(s, "r: {}", body.r());
+    let _ = writeln!(s, "DOFs of the full model: {}", body.dof_map.len());
+    let masses: Vec<f64> = [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+        .into_iter()
+        .filter_map(|k| translation_mass(body, k))
+        .collect();
+    match masses.iter().copied().reduce(f64::max) {
+        Some(m) => {
+            let _ = writeln!(s, "mass: {m:.6e} kg");
+        }
+        None => {
+            let _ = writeln!(s, "mass: not in the basis (no rigid translation)");
+        }
+    }
+    let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
+    let _ = writeln!(
+        s,
+        "interface: {} DOFs at {} nodes: {}",
+        body.interface.len(),
+        nodes.len(),
+        list_nodes(nodes.iter().copied())
+    );
+    match body.frequencies_hz() {
+        Ok(f) => {
+            let _ = writeln!(s, "frequencies (Hz): {}", list_frequencies(&f));
+        }
+        Err(e) => {
+            let _ = writeln!(s, "frequencies: not available ({e})");
+        }
+    }
+    s
+}
+
+fn sid_summary(sid: &Sid) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "format: SID (floating frame of reference)");
+    let _ = writeln!(s, "r: {} elastic coordinates", sid.nq());
+    let _ = writeln!(s, "mass: {:.6e} kg", sid.refmod.mass);
+    let c = sid.center_of_mass();
+    let _ = writeln!(
+        s,
+        "centre of mass: [{:.6e}, {:.6e}, {:.6e}] m",
+        c[0], c[1], c[2]
+    );
+    let _ = writeln!(
+        s,
+        "interface: {} nodes: {}",
+        sid.nodes.len(),
+        list_nodes(sid.nodes.iter().map(|n| n.id))
+    );
+    match sid.frequencies_hz() {
+        Ok(f) => {
+            let _ = writeln!(s, "frequencies (Hz): {}", list_frequencies(&f));
+        }
+        Err(e) => {
+            let _ = writeln!(s, "frequencies: not available ({e})");
+        }
+    }
+    s
+}

@@ -1,0 +1,399 @@
+//! A reduced body as a folder of Matrix Market files plus a JSON index, for
+//! bodies too large for one JSON document:
+//!
+//! | file | content |
+//! | --- | --- |
+//! | `mass.mtx` | `M_red = T^T M T` (r x r) |
+//! | `stiffness.mtx` | `K_red = T^T K T` (r x r, free body) |
+//! | `damping.mtx` | `D_red = T^T D T` (r x r), only if the body has damping |
+//! | `basis.mtx` | the Ritz basis `T` (m x r), rows in the order of `dofs` |
+//! | `index.json` | format tag, units, method, r, modes, frequencies, DOF map, interface, node ids and coordinates, accuracy figures, file names |
+//!
+//! Matrices are written dense (`%%MatrixMarket matrix array real general`,
+//! column by column) with round-trip precision; the reader also takes
+//! `coordinate` files (`general` or `symmetric`). Every file is written
+//! through [`write_atomically`]; `index.json` comes last, so a folder with an
+//! index always has its matrices.
+
+use crate::{write_atomically, ExportError};
+use faer::Mat;
+use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
+use flexbody_reduce::{Method, ModeKind, ReducedBody};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Format tag of `index.json`.
+pub const INDEX_FORMAT: &str = "flexbody-reduced-body-mtx/1";
+
+/// Optional figures a caller adds to the index.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Metadata {
+    /// Accuracy figures by name (e.g. `"err_w at 122 rad/s"`), relative.
+    #[serde(default)]
+    pub accuracy: BTreeMap<String, f64>,
+    /// Natural frequencies of the full model (Hz), if computed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub full_frequencies_hz: Option<Vec<f64>>,
+}
+
+/// A node of the full model in the index.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct IndexNode {
+    pub id: NodeId,
+    /// Coordinates (m), if known.
+    pub coords: Option<[f64; 3]>,
+}
+
+/// `index.json`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Index {
+    pub format: String,
+    pub units: String,
+    pub method: Method,
+    pub r: usize,
+    /// Number of rows of the basis (DOFs of the full model).
+    pub m: usize,
+    pub modes: Vec<ModeKind>,
+    /// Natural frequencies of the free reduced body (Hz).
+    pub frequencies_hz: Vec<f64>,
+    pub dofs: Vec<Dof>,
+    pub interface: Vec<Dof>,
+    pub nodes: Vec<IndexNode>,
+    #[serde(default)]
+    pub metadata: Metadata,
+    /// File names in the folder.
+    pub files: BTreeMap<String, String>,
+}
+
+fn matrix_text(m: &Mat<f64>, what: &str) -> String {
+    let mut s = String::with_capacity(24 * m.nrows() * m.ncols() + 100);
+    s.push_str("%%MatrixMarket matrix array real general\n");
+    s.push_str(&format!("% flexbody reduced body: {what}\n"));
+    s.push_str(&format!("{} {}\n", m.nrows(), m.ncols()));
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            s.push_str(&format!("{:e}\n", m[(i, j)]));
+        }
+    }
+    s
+}
+
+/// Writes `body` to the folder `dir` (created if missing). `sub` adds node
+/// coordinates to the index; `metadata` adds accuracy figures.
+pub fn write_mtx(
+    body: &ReducedBody,
+    sub: Option<&Substructure>,
+    metadata: &Metadata,
+    dir: &Path,
+) -> Result<(), ExportError> {
+    for (m, what) in [
+        (&body.basis, "the basis"),
+        (&body.mass, "the mass matrix"),
+        (&body.stiffness, "the stiffness matrix"),
+    ] {
+        if !m.norm_max().is_finite() {
+            return Err(ExportError::NonFinite(what));
+        }
+    }
+    let frequencies_hz = body.frequencies_hz().map_err(|_| {
+        ExportError::NonFinite("the frequencies (reduced mass matrix not positive definite)")
+    })?;
+    std::fs::create_dir_all(dir).map_err(|source| ExportError::Write {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let mut files = BTreeMap::new();
+    let mut matrices = vec![
+        ("mass", &body.mass),
+        ("stiffness", &body.stiffness),
+        ("basis", &body.basis),
+    ];
+    if let Some(d) = &body.damping {
+        matrices.push(("damping", d));
+    }
+    for (name, m) in matrices {
+        let file = format!("{name}.mtx");
+        let text = matrix_text(m, name);
+        write_atomically(&dir.join(&file), |out| out.write_all(text.as_bytes()))?;
+        files.insert(name.to_string(), file);
+    }
+    let node_ids: BTreeSet<NodeId> = body.dof_map.dofs().iter().map(|d| d.node).collect();
+    let index = Index {
+        format: INDEX_FORMAT.into(),
+        units: "SI: m, kg, s, N, rad; frequencies in Hz".into(),
+        method: body.method,
+        r: body.r(),
+        m: body.basis.nrows(),
+        modes: body.modes.clone(),
+        frequencies_hz,
+        dofs: body.dof_map.dofs().to_vec(),
+        interface: body.interface.clone(),
+        nodes: node_ids
+            .into_iter()
+            .map(|id| IndexNode {
+                id,
+                coords: sub.and_then(|s| s.node_coordinates(id)),
+            })
+            .collect(),
+        metadata: metadata.clone(),
+        files,
+    };
+    write_atomically(&dir.join("index.json"), |out| {
+        serde_json::to_writer_pretty(&mut *out, &index).map_err(std::io::Error::other)?;
+        out.write_all(b"\n")
+    })
+}
+
+/// Reads a Matrix Market matrix (array or coordinate; real; general or
+/// symmetric), naming the file and line of what is wrong.
+pub fn read_matrix(path: &Path) -> Result<Mat<f64>, ExportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_matrix(&text).map_err(|(line, message)| ExportError::Format {
+        path: path.to_path_buf(),
+        message: format!("line {line}: {message}"),
+    })
+}
+
+fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let (_, header) = lines.next().ok_or((1, "empty file".to_string()))?;
+    let h: Vec<String> = header
+        .split_whitespace()
+        .map(str::to_ascii_lowercase)
+        .collect();
+    if h.len() < 5 || h[0] != "%%matrixmarket" || h[1] != "matrix" || h[3] != "real" {
+        return Err((
+            1,
+            format!("'{header}' is not a real Matrix Market matrix header"),
+        ));
+    }
+    let array = match h[2].as_str() {
+        "array" => true,
+        "coordinate" => false,
+        other => return Err((1, format!("storage '{other}' (array or coordinate)"))),
+    };
+    let symmetric = match h[4].as_str() {
+        "general" => false,
+        "symmetric" => true,
+        other => return Err((1, format!("symmetry '{other}' (general or symmetric)"))),
+    };
+    let mut body = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
+    let (size_line, size) = body
+        .next()
+        .ok_or((1, "the size line is missing".to_string()))?;
+    let dims: Vec<usize> = size
+        .split_whitespace()
+        .map(|t| {
+            t.parse()
+                .map_err(|_| (size_line, format!("'{t}' is not a count")))
+        })
+        .collect::<Result<_, _>>()?;
+    let (nrows, ncols) = match dims.as_slice() {
+        [r, c] if array => (*r, *c),
+        [r, c, _] if !array => (*r, *c),
+        _ => {
+            return Err((
+                size_line,
+                format!("size line '{size}' has the wrong number of counts"),
+            ))
+        }
+    };
+    let mut m = Mat::zeros(nrows, ncols);
+    let mut last = size_line;
+    if array {
+        let want = if symmetric {
+            nrows * (nrows + 1) / 2
+        } else {
+            nrows * ncols
+        };
+        let mut count = 0;
+        for (n, l) in body {
+            last = n;
+            let v: f64 = l
+                .parse()
+                .map_err(|_| (n, format!("'{l}' is not a number")))?;
+            if count >= want {
+                return Err((
+                    n,
+                    format!("more than the {want} entries of {nrows} x {ncols}"),
+                ));
+            }
+            // Column-major; symmetric arrays list the lower triangle.
+            let (i, j) = if symmetric {
+                let mut j = 0;
+                let mut left = count;
+                while left >= nrows - j {
+                    left -= nrows - j;
+                    j += 1;
+                }
+                (j + left, j)
+            } else {
+                (count % nrows, count / nrows)
+            };
+            m[(i, j)] = v;
+            if symmetric {
+                m[(j, i)] = v;
+            }
+            count += 1;
+        }
+        if count != want {
+            return Err((
+                last,
+                format!("{count} entries, expected {want} for {nrows} x {ncols} (file truncated?)"),
+            ));
+        }
+    } else {
+        let want = dims[2];
+        let mut count = 0;
+        for (n, l) in body {
+            last = n;
+            let t: Vec<&str> = l.split_whitespace().collect();
+            let [i, j, v] = t.as_slice() else {
+                return Err((n, format!("'{l}' is not 'row col value'")));
+            };
+            let (i, j): (usize, usize) = match (i.parse(), j.parse()) {
+                (Ok(i), Ok(j)) if i >= 1 && j >= 1 && i <= nrows && j <= ncols => (i, j),
+                _ => return Err((n, format!("entry ({i}, {j}) is outside {nrows} x {ncols}"))),
+            };
+            let v: f64 = v
+                .parse()
+                .map_err(|_| (n, format!("'{v}' is not a number")))?;
+            m[(i - 1, j - 1)] += v;
+            if symmetric && i != j {
+                m[(j - 1, i - 1)] += v;
+            }
+            count += 1;
+        }
+        if count != want {
+            return Err((
+                last,
+                format!("{count} entries, the size line says {want} (file truncated?)"),
+            ));
+        }
+    }
+    Ok(m)
+}
+
+/// Reads a body written by [`write_mtx`] from its folder (or the path of its
+/// `index.json`).
+pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
+    let (dir, index_path): (PathBuf, PathBuf) = if dir.is_dir() {
+        (dir.to_path_buf(), dir.join("index.json"))
+    } else {
+        (
+            dir.parent().unwrap_or(Path::new(".")).to_path_buf(),
+            dir.to_path_buf(),
+        )
+    };
+    let text = std::fs::read_to_string(&index_path).map_err(|source| ExportError::Read {
+        path: index_path.clone(),
+        source,
+    })?;
+    let bad = |message: String| ExportError::Format {
+        path: index_path.clone(),
+        message,
+    };
+    let index: Index = serde_json::from_str(&text).map_err(|e| {
+        bad(format!(
+            "line {}, block '{}': {e}",
+            e.line(),
+            crate::json_block_at(&text, e.line())
+        ))
+    })?;
+    if index.format != INDEX_FORMAT {
+        return Err(bad(format!(
+            "format '{}' is not {INDEX_FORMAT}",
+            index.format
+        )));
+    }
+    let r = index.r;
+    let load = |name: &str, rows: usize| -> Result<Option<Mat<f64>>, ExportError> {
+        let Some(file) = index.files.get(name) else {
+            return Ok(None);
+        };
+        let path = dir.join(file);
+        let m = read_matrix(&path)?;
+        if m.nrows() != rows || m.ncols() != r {
+            return Err(ExportError::Format {
+                path,
+                message: format!(
+                    "{name} is {} x {}, the index says {rows} x {r}",
+                    m.nrows(),
+                    m.ncols()
+                ),
+            });
+        }
+        Ok(Some(m))
+    };
+    let need = |name: &str, rows: usize| {
+        load(name, rows)?.ok_or_else(|| bad(format!("block 'files': no '{name}' file")))
+    };
+    if index.dofs.len() != index.m {
+        return Err(bad(format!(
+            "block 'dofs': {} DOFs, m = {}",
+            index.dofs.len(),
+            index.m
+        )));
+    }
+    if index.modes.len() != r {
+        return Err(bad(format!(
+            "block 'modes': {} mode descriptions for r = {r}",
+            index.modes.len()
+        )));
+    }
+    let mass = need("mass", r)?;
+    let stiffness = need("stiffness", r)?;
+    let basis = need("basis", index.m)?;
+    let damping = load("damping", r)?;
+    let dof_map = DofMap::new(index.dofs);
+    if let Some(d) = index
+        .interface
+        .iter()
+        .find(|d| dof_map.index_of(**d).is_none())
+    {
+        return Err(bad(format!(
+            "block 'interface': DOF {d} is not among the body's DOFs"
+        )));
+    }
+    Ok(ReducedBody {
+        method: index.method,
+        dof_map,
+        basis,
+        mass,
+        stiffness,
+        damping,
+        modes: index.modes,
+        interface: index.interface,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn array_and_coordinate_files_parse() {
+        let a =
+            parse_matrix("%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n4\n").unwrap();
+        assert_eq!((a[(1, 0)], a[(0, 1)]), (2.0, 3.0));
+        let s = parse_matrix("%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n4\n").unwrap();
+        assert_eq!((s[(0, 1)], s[(1, 0)], s[(1, 1)]), (2.0, 2.0, 4.0));
+        let c = parse_matrix(
+            "%%MatrixMarket matrix coordinate real symmetric\n% c\n2 2 2\n1 1 5\n2 1 7\n",
+        )
+        .unwrap();
+        assert_eq!((c[(0, 1)], c[(1, 0)], c[(0, 0)]), (7.0, 7.0, 5.0));
+    }
+
+    #[test]
+    fn truncated_files_name_the_line() {
+        let e =
+            parse_matrix("%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n").unwrap_err();
+        assert_eq!(e.0, 5);
+        assert!(e.1.contains("3 entries, expected 4"), "{}", e.1);
+    }
+}

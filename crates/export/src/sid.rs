@@ -1,0 +1,754 @@
+//! Standard Input Data (SID, Wallrapp 1994) of a reduced body: the floating
+//! frame of reference description that MBS codes read (report ref. \[6\]).
+//!
+//! The file is text, in the block layout of SID writers:
+//!
+//! ```text
+//! part
+//! new modal
+//! refmod ... end refmod            (mass, nelastq, ielastq(i))
+//! new frame
+//! new node ... end node            (one per interface node: rframe,
+//!                                   origin, phi, psi, AP)
+//! end frame
+//! mdCM, J, Ct, Cr, Me, Gr, Ge, Oe, ksigma, Ke, De   (Taylor objects)
+//! end modal
+//! end part
+//! ```
+//!
+//! Each quantity is a Taylor expansion `A(q) = m0 + sum_k m1_k q_k`, written
+//! as `order`, `nrow`, `ncol`, `nq`, `nqn`, `structure` and the entries
+//! `m0( i, j) = v` and `m1( i, j, k) = v` (1-based). Field by field, with the
+//! formula behind each, in `docs/sid.md`; the invariants are computed in
+//! [`crate::ffrf`]. The reader checks every count and names the block and the
+//! line of what is wrong.
+
+use crate::ffrf::{elastic_basis, mass_invariants, node_rows, ElasticBasis};
+use crate::{write_atomically, ExportError};
+use faer::Mat;
+use flexbody_fem::{Model, Substructure};
+use flexbody_reduce::ReducedBody;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// `structure` code of a Taylor object whose entries are all listed.
+pub const FULL: usize = 3;
+/// `structure` code of a Taylor object that is zero (no entries listed).
+pub const ZERO: usize = 0;
+
+/// A Taylor-expansion object `A(q) = m0 + sum_k m1_k q_k`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Taylor {
+    /// 0 (constant) or 1 (linear in q).
+    pub order: usize,
+    pub nrow: usize,
+    pub ncol: usize,
+    /// Number of elastic coordinates the first order refers to.
+    pub nq: usize,
+    /// Number of second-order terms (always 0 here).
+    pub nqn: usize,
+    /// [`FULL`] or [`ZERO`].
+    pub structure: usize,
+    /// Zero order, nrow x ncol.
+    pub m0: Mat<f64>,
+    /// First order, one nrow x ncol matrix per coordinate (empty if order 0).
+    pub m1: Vec<Mat<f64>>,
+}
+
+impl Taylor {
+    /// A constant object.
+    pub fn constant(m0: Mat<f64>, nq: usize) -> Self {
+        Self {
+            order: 0,
+            nrow: m0.nrows(),
+            ncol: m0.ncols(),
+            nq,
+            nqn: 0,
+            structure: FULL,
+            m0,
+            m1: Vec::new(),
+        }
+    }
+
+    /// A first-order object.
+    pub fn linear(m0: Mat<f64>, m1: Vec<Mat<f64>>) -> Self {
+        Self {
+            order: 1,
+            nrow: m0.nrows(),
+            ncol: m0.ncols(),
+            nq: m1.len(),
+            nqn: 0,
+            structure: FULL,
+            m0,
+            m1,
+        }
+    }
+
+    /// Value at `q` (first order).
+    pub fn at(&self, q: &[f64]) -> Mat<f64> {
+        let mut a = self.m0.clone();
+        for (m1, qk) in self.m1.iter().zip(q) {
+            a += m1 * faer::Scale(*qk);
+        }
+        a
+    }
+}
+
+/// `refmod`: the body's mass and the names of its elastic coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refmod {
+    pub mass: f64,
+    /// One name per elastic coordinate (`nelastq` of them).
+    pub ielastq: Vec<String>,
+}
+
+/// A node of the frame (an interface node of the body).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SidNode {
+    /// Node id of the FE model.
+    pub id: u64,
+    /// Position `m0` (3 x 1) and its change `m1_k = phi_k`.
+    pub origin: Taylor,
+    /// Translational mode shapes (3 x nq).
+    pub phi: Taylor,
+    /// Rotational mode shapes (3 x nq).
+    pub psi: Taylor,
+    /// Orientation `I + psi~ q` (3 x 3, first order).
+    pub ap: Taylor,
+}
+
+/// A SID file's content.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sid {
+    pub refmod: Refmod,
+    pub nodes: Vec<SidNode>,
+    pub md_cm: Taylor,
+    pub j: Taylor,
+    pub ct: Taylor,
+    pub cr: Taylor,
+    pub me: Taylor,
+    pub gr: Taylor,
+    pub ge: Taylor,
+    pub oe: Taylor,
+    /// Modal stresses (6 rows per solid node, Voigt, Pa) or beam section
+    /// forces (12 rows per element, N Qy Qz T My Mz at start then end).
+    pub ksigma: Taylor,
+    pub ke: Taylor,
+    pub de: Taylor,
+}
+
+fn skew(v: [f64; 3]) -> Mat<f64> {
+    let m = [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
+    Mat::from_fn(3, 3, |i, j| m[i][j])
+}
+
+/// Rows of the recovery matrix `ksigma` (per mode of the body) from the
+/// model: modal stresses of solids, else section forces of beams.
+fn recovery_rows(model: &Model, body: &ReducedBody) -> Result<Mat<f64>, ExportError> {
+    let err = |e: flexbody_fem::FemError| ExportError::Model(format!("stress recovery: {e}"));
+    let stress = flexbody_recover::ModalStress::new(model, body).map_err(err)?;
+    if !stress.nodes.is_empty() {
+        let rows = 6 * stress.nodes.len();
+        return Ok(Mat::from_fn(rows, body.r(), |i, j| {
+            stress.matrices[i / 6][(i % 6, j)]
+        }));
+    }
+    let beams = flexbody_recover::ModalRecovery::new(model, body).map_err(err)?;
+    Ok(Mat::from_fn(12 * beams.elements.len(), body.r(), |i, j| {
+        beams.stiffness[i / 12][(i % 12, j)]
+    }))
+}
+
+impl Sid {
+    /// The SID of `body`, reduced from `sub`; `model` (the mesh, if known)
+    /// gives the stress or section-force rows `ksigma`.
+    pub fn new(
+        sub: &Substructure,
+        model: Option<&Model>,
+        body: &ReducedBody,
+    ) -> Result<Self, ExportError> {
+        let basis = elastic_basis(sub, body)?;
+        Self::with_basis(sub, model, body, &basis)
+    }
+
+    /// As [`Sid::new`], with the elastic coordinates given.
+    pub fn with_basis(
+        sub: &Substructure,
+        model: Option<&Model>,
+        body: &ReducedBody,
+        basis: &ElasticBasis,
+    ) -> Result<Self, ExportError> {
+        let inv = mass_invariants(sub, basis)?;
+        let nq = basis.shapes.ncols();
+        let col3 = |v: [f64; 3]| Mat::from_fn(3, 1, |i, _| v[i]);
+        let m33 = |a: [[f64; 3]; 3]| Mat::from_fn(3, 3, |i, j| a[i][j]);
+        let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
+        let nodes = nodes
+            .into_iter()
+            .map(|id| {
+                let (phi, psi) = node_rows(body, &basis.shapes, id);
+                let x = sub.node_coordinates(id).unwrap_or([0.0; 3]);
+                SidNode {
+                    id,
+                    origin: Taylor::linear(
+                        col3(x),
+                        (0..nq)
+                            .map(|k| Mat::from_fn(3, 1, |i, _| phi[(i, k)]))
+                            .collect(),
+                    ),
+                    ap: Taylor::linear(
+                        Mat::identity(3, 3),
+                        (0..nq)
+                            .map(|k| skew([psi[(0, k)], psi[(1, k)], psi[(2, k)]]))
+                            .collect(),
+                    ),
+                    phi: Taylor::constant(phi, nq),
+                    psi: Taylor::constant(psi, nq),
+                }
+            })
+            .collect();
+        let ksigma = match model {
+            Some(model) => recovery_rows(model, body)? * &basis.transform,
+            None => Mat::zeros(0, nq),
+        };
+        let frequencies = &basis.frequencies_hz;
+        Ok(Self {
+            refmod: Refmod {
+                mass: inv.mass,
+                ielastq: frequencies
+                    .iter()
+                    .enumerate()
+                    .map(|(k, f)| format!("Eigen Mode {:4} : {f:.6e} Hz", k + 1))
+                    .collect(),
+            },
+            nodes,
+            md_cm: Taylor::linear(col3(inv.md_cm), inv.md_cm1.into_iter().map(col3).collect()),
+            j: Taylor::linear(m33(inv.j), inv.j1.into_iter().map(m33).collect()),
+            ct: Taylor::constant(inv.ct, nq),
+            cr: Taylor::linear(inv.cr, inv.cr1),
+            me: Taylor::constant(inv.me, nq),
+            gr: Taylor::constant(inv.gr, nq),
+            ge: Taylor::constant(inv.ge, nq),
+            oe: Taylor::linear(inv.oe, inv.oe1),
+            ksigma: Taylor::constant(ksigma, nq),
+            ke: Taylor::constant(basis.stiffness.clone(), nq),
+            de: Taylor::constant(
+                basis.damping.clone().unwrap_or_else(|| Mat::zeros(nq, nq)),
+                nq,
+            ),
+        })
+    }
+
+    /// Number of elastic coordinates.
+    pub fn nq(&self) -> usize {
+        self.refmod.ielastq.len()
+    }
+
+    /// Centre of mass of the undeformed body (m).
+    pub fn center_of_mass(&self) -> [f64; 3] {
+        std::array::from_fn(|i| self.md_cm.m0[(i, 0)] / self.refmod.mass)
+    }
+
+    /// Natural frequencies of the elastic modes (Hz), from `Ke` and `Me`.
+    pub fn frequencies_hz(&self) -> Result<Vec<f64>, ExportError> {
+        flexbody_linalg::eigen::generalized_symmetric(self.ke.m0.as_ref(), self.me.m0.as_ref())
+            .map(|p| p.frequencies_hz())
+            .map_err(|e| ExportError::Model(format!("SID modal matrices: {e}")))
+    }
+
+    /// The Taylor objects after the frame, in file order, with their names.
+    pub fn quantities(&self) -> [(&'static str, &Taylor); 11] {
+        [
+            ("mdCM", &self.md_cm),
+            ("J", &self.j),
+            ("Ct", &self.ct),
+            ("Cr", &self.cr),
+            ("Me", &self.me),
+            ("Gr", &self.gr),
+            ("Ge", &self.ge),
+            ("Oe", &self.oe),
+            ("ksigma", &self.ksigma),
+            ("Ke", &self.ke),
+            ("De", &self.de),
+        ]
+    }
+
+    /// The SID text.
+    pub fn to_text(&self) -> String {
+        let mut s = String::new();
+        self.write_text(&mut s);
+        s
+    }
+
+    fn write_text(&self, s: &mut String) {
+        use std::fmt::Write as _;
+        let _ = writeln!(
+            s,
+            "# flexbody SID (Wallrapp 1994), SI units: m, kg, s, N, rad"
+        );
+        let _ = writeln!(s, "# fields and formulas: docs/sid.md");
+        s.push_str("part\nnew modal\nrefmod\n");
+        let _ = writeln!(s, "  mass = {:e}", self.refmod.mass);
+        let _ = writeln!(s, "  nelastq = {}", self.refmod.ielastq.len());
+        for (i, name) in self.refmod.ielastq.iter().enumerate() {
+            let _ = writeln!(s, "  ielastq({}) = '{}'", i + 1, name.replace('\'', " "));
+        }
+        s.push_str("end refmod\nnew frame\n");
+        for node in &self.nodes {
+            s.push_str("new node\n");
+            let _ = writeln!(s, "  rframe = '{}'", node.id);
+            for (name, t) in [
+                ("origin", &node.origin),
+                ("phi", &node.phi),
+                ("psi", &node.psi),
+                ("AP", &node.ap),
+            ] {
+                write_taylor(s, name, t, "  ");
+            }
+            s.push_str("end node\n");
+        }
+        s.push_str("end frame\n");
+        for (name, t) in self.quantities() {
+            write_taylor(s, name, t, "");
+        }
+        s.push_str("end modal\nend part\n");
+    }
+}
+
+fn write_taylor(s: &mut String, name: &str, t: &Taylor, indent: &str) {
+    use std::fmt::Write as _;
+    let _ = writeln!(s, "{indent}{name}");
+    for (key, v) in [
+        ("order", t.order),
+        ("nrow", t.nrow),
+        ("ncol", t.ncol),
+        ("nq", t.nq),
+        ("nqn", t.nqn),
+        ("structure", t.structure),
+    ] {
+        let _ = writeln!(s, "{indent}  {key} = {v}");
+    }
+    if t.structure == FULL {
+        for i in 0..t.nrow {
+            for j in 0..t.ncol {
+                let _ = writeln!(s, "{indent}  m0({}, {}) = {:e}", i + 1, j + 1, t.m0[(i, j)]);
+            }
+        }
+        for (k, m1) in t.m1.iter().enumerate() {
+            for i in 0..t.nrow {
+                for j in 0..t.ncol {
+                    let _ = writeln!(
+                        s,
+                        "{indent}  m1({}, {}, {}) = {:e}",
+                        i + 1,
+                        j + 1,
+                        k + 1,
+                        m1[(i, j)]
+                    );
+                }
+            }
+        }
+    }
+    let _ = writeln!(s, "{indent}end {name}");
+}
+
+/// Writes the SID of `body` (see [`Sid::new`]) to `path`, atomically.
+pub fn write_sid(
+    sub: &Substructure,
+    model: Option<&Model>,
+    body: &ReducedBody,
+    path: &Path,
+) -> Result<(), ExportError> {
+    let sid = Sid::new(sub, model, body)?;
+    write_sid_file(&sid, path)
+}
+
+/// Writes `sid` to `path`, atomically; refuses non-finite values.
+pub fn write_sid_file(sid: &Sid, path: &Path) -> Result<(), ExportError> {
+    for (name, t) in sid.quantities() {
+        if !t.m0.norm_max().is_finite() || t.m1.iter().any(|m| !m.norm_max().is_finite()) {
+            return Err(ExportError::NonFiniteIn(name.to_string()));
+        }
+    }
+    let text = sid.to_text();
+    write_atomically(path, |out| out.write_all(text.as_bytes()))
+}
+
+/// Reads a SID file written by [`write_sid`].
+pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_sid(&text).map_err(|e| ExportError::Format {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// A parse error: line (1-based), the block it is in, and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParseError {
+    pub line: usize,
+    pub block: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for ParseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "line {}, block '{}': {}",
+            self.line, self.block, self.message
+        )
+    }
+}
+
+/// Line cursor over the significant lines of a SID text.
+struct Lines<'a> {
+    lines: Vec<(usize, &'a str)>,
+    pos: usize,
+    /// Number of the last line of the file (for "ends inside" errors).
+    last: usize,
+}
+
+impl<'a> Lines<'a> {
+    fn new(text: &'a str) -> Self {
+        let lines: Vec<(usize, &str)> = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'))
+            .collect();
+        Self {
+            last: text.lines().count(),
+            lines,
+            pos: 0,
+        }
+    }
+
+    fn next(&mut self, block: &str, opened: usize) -> Result<(usize, &'a str), ParseError> {
+        let l = self
+            .lines
+            .get(self.pos)
+            .copied()
+            .ok_or_else(|| ParseError {
+                line: self.last,
+                block: block.to_string(),
+                message: format!("the file ends inside block '{block}' (opened at line {opened})"),
+            })?;
+        self.pos += 1;
+        Ok(l)
+    }
+
+    fn expect(&mut self, keyword: &str, block: &str, opened: usize) -> Result<usize, ParseError> {
+        let (n, l) = self.next(block, opened)?;
+        if l.eq_ignore_ascii_case(keyword) {
+            Ok(n)
+        } else {
+            Err(ParseError {
+                line: n,
+                block: block.to_string(),
+                message: format!("expected '{keyword}', found '{l}'"),
+            })
+        }
+    }
+}
+
+fn key_value(l: &str) -> Option<(&str, &str)> {
+    let (k, v) = l.split_once('=')?;
+    Some((k.trim(), v.trim()))
+}
+
+/// `name(1, 2, 3)` -> ("name", [1, 2, 3]).
+fn indexed(key: &str) -> Option<(&str, Vec<usize>)> {
+    let (name, rest) = key.split_once('(')?;
+    let inner = rest.strip_suffix(')')?;
+    let idx: Option<Vec<usize>> = inner.split(',').map(|s| s.trim().parse().ok()).collect();
+    Some((name.trim(), idx?))
+}
+
+fn parse_taylor(
+    lines: &mut Lines<'_>,
+    name: &str,
+    opened: usize,
+    nq: usize,
+) -> Result<Taylor, ParseError> {
+    let err = |line: usize, message: String| ParseError {
+        line,
+        block: name.to_string(),
+        message,
+    };
+    let mut header = [None::<usize>; 6];
+    const KEYS: [&str; 6] = ["order", "nrow", "ncol", "nq", "nqn", "structure"];
+    let mut m0: Vec<(usize, usize, usize, f64)> = Vec::new();
+    let mut m1: Vec<(usize, usize, usize, usize, f64)> = Vec::new();
+    let end = format!("end {name}");
+    let end_line = loop {
+        let (n, l) = lines.next(name, opened)?;
+        if l.eq_ignore_ascii_case(&end) {
+            break n;
+        }
+        if l.starts_with("end ") || l.starts_with("new ") {
+            return Err(err(
+                n,
+                format!("'{l}' before 'end {name}' (block opened at line {opened})"),
+            ));
+        }
+        let (k, v) =
+            key_value(l).ok_or_else(|| err(n, format!("expected 'key = value', found '{l}'")))?;
+        if let Some(slot) = KEYS.iter().position(|key| k.eq_ignore_ascii_case(key)) {
+            header[slot] = Some(
+                v.parse()
+                    .map_err(|_| err(n, format!("{k} = '{v}' is not a count")))?,
+            );
+            continue;
+        }
+        let (kind, idx) = indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'")))?;
+        let value: f64 = v
+            .parse()
+            .map_err(|_| err(n, format!("'{v}' is not a number")))?;
+        match (kind, idx.as_slice()) {
+            ("m0", [i, j]) => m0.push((n, *i, *j, value)),
+            ("m1", [i, j, k]) => m1.push((n, *i, *j, *k, value)),
+            _ => return Err(err(n, format!("unknown entry '{k}'"))),
+        }
+    };
+    let mut h = [0usize; 6];
+    for (slot, key) in KEYS.iter().enumerate() {
+        h[slot] = header[slot].ok_or_else(|| err(end_line, format!("'{key}' is missing")))?;
+    }
+    let [order, nrow, ncol, tq, nqn, structure] = h;
+    if order > 1 {
+        return Err(err(
+            end_line,
+            format!("order {order} is not supported (0 or 1)"),
+        ));
+    }
+    if tq != nq {
+        return Err(err(
+            end_line,
+            format!("nq = {tq}, but refmod has nelastq = {nq}"),
+        ));
+    }
+    if structure != FULL && structure != ZERO {
+        return Err(err(
+            end_line,
+            format!("structure {structure} is not supported (0 or 3)"),
+        ));
+    }
+    let mut a0 = Mat::zeros(nrow, ncol);
+    let mut a1 = vec![Mat::zeros(nrow, ncol); if order == 1 { nq } else { 0 }];
+    let expect = |count: usize, want: usize, what: &str| {
+        if count == want {
+            Ok(())
+        } else {
+            Err(err(end_line, format!("{count} {what} entries, expected {want} (nrow = {nrow}, ncol = {ncol}, nq = {nq}, structure = {structure})")))
+        }
+    };
+    let full = structure == FULL;
+    expect(m0.len(), if full { nrow * ncol } else { 0 }, "m0")?;
+    expect(
+        m1.len(),
+        if full && order == 1 {
+            nrow * ncol * nq
+        } else {
+            0
+        },
+        "m1",
+    )?;
+    for (n, i, j, v) in m0 {
+        if i == 0 || j == 0 || i > nrow || j > ncol {
+            return Err(err(n, format!("m0({i}, {j}) is outside {nrow} x {ncol}")));
+        }
+        a0[(i - 1, j - 1)] = v;
+    }
+    for (n, i, j, k, v) in m1 {
+        if i == 0 || j == 0 || k == 0 || i > nrow || j > ncol || k > nq {
+            return Err(err(
+                n,
+                format!("m1({i}, {j}, {k}) is outside {nrow} x {ncol} x {nq}"),
+            ));
+        }
+        a1[k - 1][(i - 1, j - 1)] = v;
+    }
+    Ok(Taylor {
+        order,
+        nrow,
+        ncol,
+        nq,
+        nqn,
+        structure,
+        m0: a0,
+        m1: a1,
+    })
+}
+
+fn check_shape(
+    t: &Taylor,
+    name: &str,
+    nrow: usize,
+    ncol: usize,
+    line: usize,
+) -> Result<(), ParseError> {
+    if t.nrow != nrow || (ncol != usize::MAX && t.ncol != ncol) {
+        return Err(ParseError {
+            line,
+            block: name.to_string(),
+            message: format!(
+                "is {} x {}, expected {} x {}",
+                t.nrow,
+                t.ncol,
+                nrow,
+                if ncol == usize::MAX { t.ncol } else { ncol }
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Parses SID text (see the module docs).
+pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
+    let mut lines = Lines::new(text);
+    let part = lines.expect("part", "part", 1)?;
+    let modal = lines.expect("new modal", "part", part)?;
+    let refmod_line = lines.expect("refmod", "modal", modal)?;
+    let mut mass = None;
+    let mut nelastq = None;
+    let mut names: Vec<(usize, usize, String)> = Vec::new();
+    let bad = |line, message: String| ParseError {
+        line,
+        block: "refmod".into(),
+        message,
+    };
+    let refmod_end = loop {
+        let (n, l) = lines.next("refmod", refmod_line)?;
+        if l.eq_ignore_ascii_case("end refmod") {
+            break n;
+        }
+        let (k, v) =
+            key_value(l).ok_or_else(|| bad(n, format!("expected 'key = value', found '{l}'")))?;
+        if k.eq_ignore_ascii_case("mass") {
+            mass = Some(
+                v.parse::<f64>()
+                    .map_err(|_| bad(n, format!("mass '{v}' is not a number")))?,
+            );
+        } else if k.eq_ignore_ascii_case("nelastq") {
+            nelastq = Some(
+                v.parse::<usize>()
+                    .map_err(|_| bad(n, format!("nelastq '{v}' is not a count")))?,
+            );
+        } else if let Some(("ielastq", idx)) = indexed(k) {
+            let [i] = idx.as_slice() else {
+                return Err(bad(n, format!("'{k}' needs one index")));
+            };
+            names.push((n, *i, v.trim_matches('\'').trim().to_string()));
+        } else {
+            return Err(bad(n, format!("unknown entry '{k}'")));
+        }
+    };
+    let mass = mass.ok_or_else(|| bad(refmod_end, "'mass' is missing".into()))?;
+    let nq = nelastq.ok_or_else(|| bad(refmod_end, "'nelastq' is missing".into()))?;
+    if names.len() != nq {
+        return Err(bad(
+            refmod_end,
+            format!("{} ielastq names, nelastq = {nq}", names.len()),
+        ));
+    }
+    let mut ielastq = vec![String::new(); nq];
+    for (n, i, name) in names {
+        if i == 0 || i > nq {
+            return Err(bad(n, format!("ielastq({i}) is outside 1..{nq}")));
+        }
+        ielastq[i - 1] = name;
+    }
+    let frame = lines.expect("new frame", "modal", modal)?;
+    let mut nodes = Vec::new();
+    loop {
+        let (n, l) = lines.next("frame", frame)?;
+        if l.eq_ignore_ascii_case("end frame") {
+            break;
+        }
+        if !l.eq_ignore_ascii_case("new node") {
+            return Err(ParseError {
+                line: n,
+                block: "frame".into(),
+                message: format!("expected 'new node' or 'end frame', found '{l}'"),
+            });
+        }
+        let (rn, rl) = lines.next("node", n)?;
+        let id = key_value(rl)
+            .filter(|(k, _)| k.eq_ignore_ascii_case("rframe"))
+            .and_then(|(_, v)| v.trim_matches('\'').trim().parse::<u64>().ok())
+            .ok_or_else(|| ParseError {
+                line: rn,
+                block: "node".into(),
+                message: format!("expected \"rframe = '<node id>'\", found '{rl}'"),
+            })?;
+        let mut parts = Vec::new();
+        for name in ["origin", "phi", "psi", "AP"] {
+            let opened = lines.expect(name, "node", n)?;
+            let t = parse_taylor(&mut lines, name, opened, nq)?;
+            let (rows, cols) = match name {
+                "origin" => (3, 1),
+                "AP" => (3, 3),
+                _ => (3, nq),
+            };
+            check_shape(&t, name, rows, cols, opened)?;
+            parts.push(t);
+        }
+        lines.expect("end node", "node", n)?;
+        let mut parts = parts.into_iter();
+        let mut take = || parts.next().expect("four parts");
+        nodes.push(SidNode {
+            id,
+            origin: take(),
+            phi: take(),
+            psi: take(),
+            ap: take(),
+        });
+    }
+    let expected: [(&str, usize, usize); 11] = [
+        ("mdCM", 3, 1),
+        ("J", 3, 3),
+        ("Ct", nq, 3),
+        ("Cr", nq, 3),
+        ("Me", nq, nq),
+        ("Gr", 3, 3 * nq),
+        ("Ge", nq, 3 * nq),
+        ("Oe", nq, 6),
+        ("ksigma", usize::MAX, nq),
+        ("Ke", nq, nq),
+        ("De", nq, nq),
+    ];
+    let mut q = Vec::with_capacity(11);
+    for (name, rows, cols) in expected {
+        let opened = lines.expect(name, "modal", modal)?;
+        let t = parse_taylor(&mut lines, name, opened, nq)?;
+        if rows == usize::MAX {
+            check_shape(&t, name, t.nrow, cols, opened)?;
+        } else {
+            check_shape(&t, name, rows, cols, opened)?;
+        }
+        q.push(t);
+    }
+    lines.expect("end modal", "modal", modal)?;
+    lines.expect("end part", "part", part)?;
+    let mut q = q.into_iter();
+    let mut take = || q.next().expect("eleven quantities");
+    Ok(Sid {
+        refmod: Refmod { mass, ielastq },
+        nodes,
+        md_cm: take(),
+        j: take(),
+        ct: take(),
+        cr: take(),
+        me: take(),
+        gr: take(),
+        ge: take(),
+        oe: take(),
+        ksigma: take(),
+        ke: take(),
+        de: take(),
+    })
+}

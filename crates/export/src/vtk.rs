@@ -1,0 +1,234 @@
+//! VTK output for ParaView: the mesh as an unstructured grid (`.vtu`, ASCII
+//! XML) with the eigenmodes of the reduced body and their stresses as point
+//! data.
+//!
+//! Cells: solids as VTK hexahedra (C3D8: 12), quadratic hexahedra (C3D20,
+//! C3D20R: 25), tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24) and
+//! wedges (C3D6: 13); beams and two-node springs as lines (3); point masses
+//! and grounded springs as vertices (1). The Abaqus node order is VTK's for
+//! all kinds except the wedge, whose triangles VTK orders the other way
+//! round (`[0, 2, 1, 3, 5, 4]`).
+//!
+//! Point data, for each eigenmode `k` of the reduced body (`K_red x = w^2
+//! M_red x`, shape `T x`, M-normalised): `mode kk` (displacement vector, m
+//! per unit modal coordinate), `mode kk rotation` (rad, models with
+//! rotation DOFs), and for solids `mode kk stress` (6 components, Voigt
+//! `sxx syy szz sxy syz szx`, Pa) and `mode kk von Mises` (Pa), averaged at
+//! the nodes. Field data `frequencies_hz` lists the modes' frequencies.
+//! Nodes without a DOF or stress get zeros.
+
+use crate::{write_atomically, ExportError};
+use faer::Mat;
+use flexbody_fem::element::SolidKind;
+use flexbody_fem::{Dof, DofKind, Element, Model};
+use flexbody_reduce::ReducedBody;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// VTK cell type and node order (indices into the element's nodes).
+fn cell_of(e: &Element) -> Option<(u8, Vec<usize>)> {
+    let n = e.nodes().len();
+    match e {
+        Element::Solid(s) => Some(match s.kind {
+            SolidKind::C3D8 => (12, (0..8).collect()),
+            SolidKind::C3D20 | SolidKind::C3D20R => (25, (0..20).collect()),
+            SolidKind::C3D4 => (10, (0..4).collect()),
+            SolidKind::C3D10 => (24, (0..10).collect()),
+            SolidKind::C3D6 => (13, vec![0, 2, 1, 3, 5, 4]),
+        }),
+        _ if n == 2 => Some((3, vec![0, 1])),
+        _ if n == 1 => Some((1, vec![0])),
+        _ => None,
+    }
+}
+
+/// The VTK cell type of each element that becomes a cell, in model order.
+pub fn cell_types(model: &Model) -> Vec<u8> {
+    model
+        .elements()
+        .iter()
+        .filter_map(|e| cell_of(e).map(|c| c.0))
+        .collect()
+}
+
+fn data_array(s: &mut String, name: &str, components: usize, values: impl Iterator<Item = f64>) {
+    let _ = write!(
+        s,
+        "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">\n          "
+    );
+    for (i, v) in values.enumerate() {
+        if i > 0 {
+            s.push(if i % (3 * components.max(1)) == 0 {
+                '\n'
+            } else {
+                ' '
+            });
+        }
+        let _ = write!(s, "{v:e}");
+    }
+    s.push_str("\n        </DataArray>\n");
+}
+
+/// The VTU text of `model` with the modes of `body` (see the module docs).
+pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError> {
+    if body.dof_map.dofs() != model.dof_map().dofs() {
+        return Err(ExportError::Model(format!(
+            "the body has {} DOFs and the model {}, or they differ",
+            body.dof_map.len(),
+            model.dof_map().len()
+        )));
+    }
+    let modes = body
+        .orthonormalized()
+        .map_err(|e| ExportError::Model(format!("eigenmodes of the reduced body: {e}")))?;
+    let stress = flexbody_recover::ModalStress::new(model, &modes)
+        .map_err(|e| ExportError::Model(format!("modal stresses: {e}")))?;
+    let nodes = model.nodes();
+    let point_of: HashMap<u64, usize> = nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect();
+    let r = modes.r();
+    let np = nodes.len();
+    let cells: Vec<(u8, Vec<usize>)> = model
+        .elements()
+        .iter()
+        .filter_map(|e| {
+            let (t, order) = cell_of(e)?;
+            let en = e.nodes();
+            Some((t, order.iter().map(|&i| point_of[&en[i]]).collect()))
+        })
+        .collect();
+    let value = |node: u64, kind: DofKind, k: usize| {
+        modes
+            .dof_map
+            .index_of(Dof::new(node, kind))
+            .map_or(0.0, |i| modes.basis[(i, k)])
+    };
+    let has_rotations = modes.dof_map.dofs().iter().any(|d| d.kind.is_rotation());
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <UnstructuredGrid>\n");
+    s.push_str("    <FieldData>\n");
+    let frequencies: Vec<f64> = modes
+        .modes
+        .iter()
+        .map(|m| match m {
+            flexbody_reduce::ModeKind::Orthonormal { frequency_hz } => *frequency_hz,
+            _ => 0.0,
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "      <DataArray type=\"Float64\" Name=\"frequencies_hz\" NumberOfTuples=\"{r}\" format=\"ascii\">"
+    );
+    let f: Vec<String> = frequencies.iter().map(|f| format!("{f:e}")).collect();
+    let _ = writeln!(
+        s,
+        "        {}\n      </DataArray>\n    </FieldData>",
+        f.join(" ")
+    );
+    let _ = writeln!(
+        s,
+        "    <Piece NumberOfPoints=\"{np}\" NumberOfCells=\"{}\">",
+        cells.len()
+    );
+    s.push_str("      <PointData>\n");
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"Int64\" Name=\"node id\" format=\"ascii\">"
+    );
+    let ids: Vec<String> = nodes.iter().map(|n| n.id.to_string()).collect();
+    let _ = writeln!(s, "          {}\n        </DataArray>", ids.join(" "));
+    let stress_row: HashMap<u64, usize> = stress
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (*n, i))
+        .collect();
+    for k in 0..r {
+        let name = format!("mode {:02}", k + 1);
+        data_array(
+            &mut s,
+            &name,
+            3,
+            nodes
+                .iter()
+                .flat_map(|n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| value(n.id, d, k))),
+        );
+        if has_rotations {
+            data_array(
+                &mut s,
+                &format!("{name} rotation"),
+                3,
+                nodes.iter().flat_map(|n| {
+                    [DofKind::Rx, DofKind::Ry, DofKind::Rz].map(|d| value(n.id, d, k))
+                }),
+            );
+        }
+        if !stress.nodes.is_empty() {
+            let sigma = |id: u64| -> [f64; 6] {
+                stress_row.get(&id).map_or([0.0; 6], |&i| {
+                    let m: &Mat<f64> = &stress.matrices[i];
+                    std::array::from_fn(|c| m[(c, k)])
+                })
+            };
+            data_array(
+                &mut s,
+                &format!("{name} stress"),
+                6,
+                nodes.iter().flat_map(|n| sigma(n.id)),
+            );
+            data_array(
+                &mut s,
+                &format!("{name} von Mises"),
+                1,
+                nodes
+                    .iter()
+                    .map(|n| flexbody_fem::element::von_mises(&sigma(n.id))),
+            );
+        }
+    }
+    s.push_str("      </PointData>\n      <Points>\n");
+    data_array(
+        &mut s,
+        "coordinates",
+        3,
+        nodes.iter().flat_map(|n| n.coords),
+    );
+    s.push_str("      </Points>\n      <Cells>\n");
+    let conn: Vec<String> = cells
+        .iter()
+        .flat_map(|c| c.1.iter().map(|i| i.to_string()))
+        .collect();
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n          {}\n        </DataArray>",
+        conn.join(" ")
+    );
+    let mut offset = 0;
+    let offsets: Vec<String> = cells
+        .iter()
+        .map(|c| {
+            offset += c.1.len();
+            offset.to_string()
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n          {}\n        </DataArray>",
+        offsets.join(" ")
+    );
+    let types: Vec<String> = cells.iter().map(|c| c.0.to_string()).collect();
+    let _ = writeln!(
+        s,
+        "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n          {}\n        </DataArray>",
+        types.join(" ")
+    );
+    s.push_str("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+    Ok(s)
+}
+
+/// Writes the VTU file of `model` with the modes of `body` to `path`,
+/// atomically.
+pub fn write_vtu(model: &Model, body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
+    let text = vtu_text(model, body)?;
+    write_atomically(path, |out| out.write_all(text.as_bytes()))
+}
