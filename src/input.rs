@@ -39,11 +39,10 @@ pub struct MatrixFiles {
 pub enum LoadError {
     #[error(transparent)]
     Input(#[from] InputError),
-    #[error("{}: {source}", .path.display())]
+    #[error("{}: {cause}", .path.display())]
     Assembly {
         path: PathBuf,
-        #[source]
-        source: crate::fem::FemError,
+        cause: crate::fem::FemError,
     },
     #[error("{}: unknown input type; expected .toml (model file), .inp (deck), .sti (CalculiX matrices) or .mtx (Matrix Market)", .0.display())]
     UnknownType(PathBuf),
@@ -67,7 +66,7 @@ pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError>
         read_time.set(start.elapsed().as_secs_f64());
         Substructure::from_model(model).map_err(|source| LoadError::Assembly {
             path: path.to_path_buf(),
-            source,
+            cause: source,
         })
     };
     let timing = || {

@@ -10,6 +10,19 @@ use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// `println!` that ends the program quietly when stdout is closed (`| head`),
+/// instead of panicking on the broken pipe.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "flexbody",
@@ -58,9 +71,17 @@ enum Command {
         /// report's e = modes in the excitation band.
         #[arg(long)]
         fmax: Option<f64>,
-        /// Reduced-body file to write.
+        /// Reduced-body file to write (a folder for --format mtx).
         #[arg(long)]
         out: PathBuf,
+        /// Format: json (one file), sid (Standard Input Data for MBS codes),
+        /// mtx (a folder of Matrix Market files with index.json).
+        #[arg(long, default_value = "json", value_parser = parse_format)]
+        format: export::Format,
+        /// Also write the mesh with every mode shape and its stresses for
+        /// ParaView (.vtu; needs a mesh).
+        #[arg(long)]
+        vtu: Option<PathBuf>,
         /// Rotate the basis so that M_red = I and K_red is diagonal.
         #[arg(long)]
         orthonormalize: bool,
@@ -89,6 +110,11 @@ enum Command {
         /// Use the full FE model instead of the reduced body.
         #[arg(long)]
         full: bool,
+    },
+    /// Print the summary of a reduced-body file (json, sid or an mtx folder).
+    Inspect {
+        /// Reduced-body file or folder.
+        body: PathBuf,
     },
     /// Read and assemble a model; print its size, mass, and the time and memory it took.
     Info {
@@ -132,6 +158,10 @@ impl MatrixArgs {
     }
 }
 
+fn parse_format(s: &str) -> Result<export::Format, String> {
+    s.parse()
+}
+
 fn parse_method(s: &str) -> Result<Method, String> {
     Method::parse(s).ok_or_else(|| {
         let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
@@ -168,6 +198,8 @@ fn run(cli: Cli) -> Result<()> {
             modes,
             fmax,
             out,
+            format,
+            vtu,
             orthonormalize,
             json,
         } => run_reduce(
@@ -176,7 +208,7 @@ fn run(cli: Cli) -> Result<()> {
             &matrices,
             method,
             (modes, fmax),
-            &out,
+            (&out, format, vtu.as_deref()),
             orthonormalize,
             json,
         ),
@@ -187,6 +219,10 @@ fn run(cli: Cli) -> Result<()> {
             json,
         } => run_modes(&model, &matrices, count, json),
         Command::Info { model, matrices } => run_info(&model, &matrices),
+        Command::Inspect { body } => {
+            say!("{}", export::read_any(&body)?.summary());
+            Ok(())
+        }
         Command::Simulate { model, out, full } => run_simulate(&model, &out, full),
         Command::Frf { model, out, full } => run_frf(&model, &out, full),
     }
@@ -261,13 +297,13 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
     }
     if json {
         let doc = serde_json::json!({ "cases": result.rows() });
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        say!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
     if let Some(t) = &result.title {
-        println!("{t}");
+        say!("{t}");
     }
-    println!(
+    say!(
         "reference: full model, {} DOFs; errors: max |reduced - reference| / max |reference|",
         file.model.dof_map().len()
     );
@@ -285,7 +321,7 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
     if solids {
         header += &format!(" {:>10}", "err vm");
     }
-    println!("{header}");
+    say!("{header}");
     for row in &rows {
         let mut line = format!(
             "{:<18} {:>4} {:>14} {:>10.2e}",
@@ -301,10 +337,10 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         if let Some(v) = row.err_vm {
             line += &format!(" {v:>10.2e}");
         }
-        println!("{line}");
+        say!("{line}");
     }
     if let Some(dir) = plots {
-        println!("plots: {}", dir.display());
+        say!("plots: {}", dir.display());
     }
     Ok(())
 }
@@ -330,7 +366,7 @@ fn run_reduce(
     matrices: &MatrixArgs,
     method: Method,
     (modes, fmax): (usize, Option<f64>),
-    out: &Path,
+    (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
     json: bool,
 ) -> Result<()> {
@@ -353,22 +389,31 @@ fn run_reduce(
     let count = body.r().min(c.sub.len());
     let full_hz = red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
         .frequencies_hz();
-    export::write_json(&body, out)?;
+    export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
+    if let Some(path) = vtu {
+        let model = c.model.as_ref().with_context(|| {
+            format!(
+                "{}: --vtu needs a mesh; matrices alone have none",
+                model.display()
+            )
+        })?;
+        export::vtk::write_vtu(model, &body, path)?;
+    }
     if json {
         let doc =
             serde_json::json!({ "r": body.r(), "full_hz": full_hz, "reduced_hz": reduced_hz });
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        say!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
-    println!(
+    say!(
         "{} reduction, r = {}, written to {}",
         method,
         body.r(),
         out.display()
     );
-    println!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
+    say!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
     for (i, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
-        println!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
+        say!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
     }
     Ok(())
 }
@@ -400,13 +445,13 @@ fn run_modes(model: &Path, matrices: &MatrixArgs, count: usize, json: bool) -> R
     let hz = modes.frequencies_hz();
     if json {
         let doc = serde_json::json!({ "dofs": n, "frequencies_hz": hz, "residuals": residuals });
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        say!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
-    println!("{n} DOFs");
-    println!("{:>5} {:>14} {:>10}", "mode", "f (Hz)", "residual");
+    say!("{n} DOFs");
+    say!("{:>5} {:>14} {:>10}", "mode", "f (Hz)", "residual");
     for (i, (f, r)) in hz.iter().zip(&residuals).enumerate() {
-        println!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
+        say!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
     }
     Ok(())
 }
@@ -434,13 +479,13 @@ fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
             })
             .sum::<f64>()
     };
-    println!("{}", c.path.display());
+    say!("{}", c.path.display());
     if let Some(m) = &c.model {
-        println!("nodes {}, elements {}", m.nodes().len(), m.elements().len());
+        say!("nodes {}, elements {}", m.nodes().len(), m.elements().len());
     } else {
-        println!("matrices only (no mesh: element stresses and section forces need the mesh)");
+        say!("matrices only (no mesh: element stresses and section forces need the mesh)");
     }
-    println!(
+    say!(
         "DOFs {}, nonzeros of K {}",
         map.len(),
         c.sub.matrices.stiffness.compute_nnz()
@@ -449,8 +494,8 @@ fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
         .iter()
         .map(|k| format!("{:.6e}", mass_along(*k)))
         .collect();
-    println!("mass along x, y, z (kg): {}", masses.join(", "));
-    println!(
+    say!("mass along x, y, z (kg): {}", masses.join(", "));
+    say!(
         "read in {:.3} s, assembled in {:.3} s ({seconds:.3} s in all); peak memory {}",
         c.timing.0,
         c.timing.1,
@@ -562,20 +607,20 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
         )
         .map_err(anyhow::Error::msg)?;
     }
-    println!(
+    say!(
         "{} steps to t = {} s ({label}); wrote {}",
         h.times.len() - 1,
         h.times.last().copied().unwrap_or(0.0),
         out.join("histories.csv").display()
     );
-    println!("{:<40} {:>14} {:>14}", "history", "min", "max");
+    say!("{:<40} {:>14} {:>14}", "history", "min", "max");
     for (name, v) in &h.columns {
         let (lo, hi) = v
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
                 (a.min(*x), b.max(*x))
             });
-        println!("{name:<40} {lo:>14.5e} {hi:>14.5e}");
+        say!("{name:<40} {lo:>14.5e} {hi:>14.5e}");
     }
     Ok(())
 }
@@ -657,13 +702,16 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
         )
         .map_err(anyhow::Error::msg)?;
     }
-    println!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
-    println!(
+    say!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
+    say!(
         "{:>5} {:>14} {:>14} {:>10}",
-        "mode", "natural (Hz)", "damped (Hz)", "zeta"
+        "mode",
+        "natural (Hz)",
+        "damped (Hz)",
+        "zeta"
     );
     for (k, m) in simulate::coupled_modes(&file, flexible)?.iter().enumerate() {
-        println!(
+        say!(
             "{:>5} {:>14.4} {:>14.4} {:>10.4}",
             k + 1,
             m.natural_hz,
@@ -671,6 +719,6 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
             m.damping_ratio
         );
     }
-    println!("wrote {}", out.join("frf.csv").display());
+    say!("wrote {}", out.join("frf.csv").display());
     Ok(())
 }

@@ -63,7 +63,12 @@ fn study_json_lists_every_case_and_plots_are_written() {
         .unwrap()
         .map(|e| e.unwrap().path())
         .collect();
-    assert_eq!(svgs.len(), 14);
+    assert_eq!(
+        svgs.len(),
+        14 + 2,
+        "a plot per case, a convergence plot per Omega"
+    );
+    assert!(out.join("convergence_omega122.svg").exists());
     let svg = std::fs::read_to_string(out.join("free-residual_r7_omega122.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("shear force Q(x)"));
 }
@@ -211,4 +216,97 @@ fn modes_json_gives_frequencies_and_residuals() {
         * (2.1e11 * i / (6800.0 * area)).sqrt();
     assert!(f[0] < 1e-3 && f[1] < 1e-3);
     assert!((f[2] - f1).abs() < 1e-4 * f1, "{} vs {f1}", f[2]);
+}
+
+#[test]
+fn reduce_writes_sid_mtx_and_vtu_and_inspect_reads_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
+    let (sid, vtu, mtx) = (
+        dir.path().join("b.sid"),
+        dir.path().join("b.vtu"),
+        dir.path().join("b_mtx"),
+    );
+    let o = flexbody(&[
+        "reduce",
+        deck.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "2",
+        "--interface",
+        "1,13",
+        "--format",
+        "sid",
+        "--out",
+        sid.to_str().unwrap(),
+        "--vtu",
+        vtu.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = flexbody(&["inspect", sid.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && text.contains("SID") && text.contains("4.710000e1 kg"),
+        "{text}"
+    );
+    assert!(std::fs::read_to_string(&vtu)
+        .unwrap()
+        .contains("UnstructuredGrid"));
+    let o = flexbody(&[
+        "reduce",
+        deck.to_str().unwrap(),
+        "--method",
+        "craig-bampton",
+        "--modes",
+        "2",
+        "--interface",
+        "1,13,79",
+        "--format",
+        "mtx",
+        "--out",
+        mtx.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = flexbody(&["inspect", mtx.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("craig-bampton"));
+    fails_with(
+        &[
+            "reduce",
+            deck.to_str().unwrap(),
+            "--method",
+            "guyan",
+            "--interface",
+            "1,13,79",
+            "--format",
+            "xml",
+            "--out",
+            "x",
+        ],
+        &["unknown format 'xml'"],
+    );
+    fails_with(
+        &["inspect", dir.path().join("none.sid").to_str().unwrap()],
+        &["none.sid", "cannot read"],
+    );
+}
+
+#[test]
+fn a_closed_stdout_ends_the_program_quietly() {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_flexbody"))
+        .args([
+            "study",
+            super::side_beam_path().to_str().unwrap(),
+            "--no-plots",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away, like `| head -0`
+    let out = child.wait_with_output().unwrap();
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    assert_eq!(out.status.code(), Some(0));
 }

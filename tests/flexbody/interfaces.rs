@@ -15,7 +15,7 @@ fn solid_path() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
 }
 
-fn rows_of<'a>(rows: &'a [CaseRow], method: Method, r: usize) -> Vec<&'a CaseRow> {
+fn rows_of(rows: &[CaseRow], method: Method, r: usize) -> Vec<&CaseRow> {
     rows.iter()
         .filter(|c| c.method == method && c.r == r)
         .collect()

@@ -103,7 +103,7 @@ pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     }
     let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     let first = text
         .lines()

@@ -34,17 +34,15 @@ use std::path::{Path, PathBuf};
 /// Errors writing or reading reduced-body files; each names the path.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
-    #[error("{}: cannot write: {source}", .path.display())]
+    #[error("{}: cannot write: {cause}", .path.display())]
     Write {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
-    #[error("{}: cannot read: {source}", .path.display())]
+    #[error("{}: cannot read: {cause}", .path.display())]
     Read {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error("{}: {message}", .path.display())]
     Format { path: PathBuf, message: String },
@@ -65,7 +63,7 @@ pub fn write_atomically(
 ) -> Result<(), ExportError> {
     let err = |source| ExportError::Write {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     };
     let dir = path
         .parent()
@@ -284,7 +282,7 @@ pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
 pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
     let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     let doc: BodyFile = serde_json::from_str(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),

@@ -101,7 +101,7 @@ pub fn write_mtx(
     })?;
     std::fs::create_dir_all(dir).map_err(|source| ExportError::Write {
         path: dir.to_path_buf(),
-        source,
+        cause: source,
     })?;
     let mut files = BTreeMap::new();
     let mut matrices = vec![
@@ -150,7 +150,7 @@ pub fn write_mtx(
 pub fn read_matrix(path: &Path) -> Result<Mat<f64>, ExportError> {
     let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     parse_matrix(&text).map_err(|(line, message)| ExportError::Format {
         path: path.to_path_buf(),
@@ -291,7 +291,7 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
     };
     let text = std::fs::read_to_string(&index_path).map_err(|source| ExportError::Read {
         path: index_path.clone(),
-        source,
+        cause: source,
     })?;
     let bad = |message: String| ExportError::Format {
         path: index_path.clone(),

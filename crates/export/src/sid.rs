@@ -378,7 +378,7 @@ pub fn write_sid_file(sid: &Sid, path: &Path) -> Result<(), ExportError> {
 pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
     let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     parse_sid(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),

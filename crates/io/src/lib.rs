@@ -23,11 +23,10 @@ use std::path::PathBuf;
 /// A problem with an input file: where, and what.
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
-    #[error("{}: cannot read: {source}", .path.display())]
+    #[error("{}: cannot read: {cause}", .path.display())]
     Read {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error("{}:{}: {message}", .path.display(), .line.map_or_else(String::new, |l| l.to_string()))]
     Invalid {

@@ -127,7 +127,7 @@ fn invalid(path: &Path, line: Option<usize>, message: impl Into<String>) -> Inpu
 fn read_text(path: &Path) -> Result<String, InputError> {
     std::fs::read_to_string(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })
 }
 

@@ -479,7 +479,7 @@ struct RawStudy {
 pub fn read_model_file(path: &Path) -> Result<ModelFile, InputError> {
     let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     parse_model_file(path, &text)
 }
@@ -1333,7 +1333,7 @@ impl Context<'_> {
 pub fn read_profile(path: &Path) -> Result<Profile, InputError> {
     let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     let bad = |line: usize, message: String| InputError::Invalid {
         path: path.to_path_buf(),

@@ -5,12 +5,19 @@
 //! - [`ldlt`]: sparse `LDL^T` with a symbolic/numeric split, block solves,
 //!   pivot inspection (singularity, inertia);
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
+//! - [`lanczos`]: its sparse solver for large models (shift-invert block
+//!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
+//!   fill-reducing [`ordering`], reporting to a [`progress`] hook;
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
 
 pub mod eigen;
+pub mod lanczos;
 pub mod ldlt;
+pub mod ordering;
 pub mod orthonormal;
+pub mod progress;
+pub mod shift_invert;
 pub mod sparse;
 
 pub use faer::sparse::SparseColMat;

@@ -64,7 +64,7 @@ pub struct Deck {
 pub fn read_deck(path: &Path) -> Result<Deck, InputError> {
     let bytes = std::fs::read(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
-        source,
+        cause: source,
     })?;
     parse_deck(path, &String::from_utf8_lossy(&bytes))
 }

@@ -1,0 +1,721 @@
+//! Sparse generalized symmetric eigen solver for `K x = lambda M x` (report
+//! eq. 21, undamped): shift-invert block Lanczos with thick (Krylov-Schur)
+//! restart in the `M` inner product, on one sparse `LDL^T` of `K - sigma M`.
+//!
+//! # The method
+//! With a shift `sigma` below the wanted eigenvalues (negative for a free
+//! body, whose `K` is singular), the operator
+//! `OP = (K - sigma M)^-1 M` is self-adjoint in the `M` inner product and has
+//! the eigenvalues `theta = 1 / (lambda - sigma)`: the lowest `lambda` become
+//! the largest, well separated `theta`. A block Krylov basis `V`
+//! (`V^T M V = I`, built `b` vectors at a time, one block solve per step,
+//! fully re-orthogonalised twice) satisfies
+//! `OP V = V H + Q B E^T` with `H = V^T M OP V` symmetric. The Ritz pairs
+//! `(theta_i, V y_i)` of `H` have the residual `||OP x - theta x||_M = ||B E^T y_i||`,
+//! so convergence (`<= tolerance * theta_i`) is read off without touching
+//! `K`. When the basis is full, it is contracted to the best Ritz vectors
+//! plus `Q` (thick restart) and the Krylov relation continues with an
+//! arrowhead `H`. A block of `b` vectors finds eigenvalues of multiplicity up
+//! to `b` (the 6 rigid-body modes of a free body, the pairs of a square
+//! section) in one run.
+//!
+//! # The Sturm check
+//! By Sylvester's law of inertia the number of negative pivots of the
+//! `LDL^T` of `K - s M` is the number of eigenvalues below `s`. After the
+//! run, `s` is placed just above the highest wanted eigenvalue; when the count
+//! exceeds what was found (a multiplicity larger than the block, a missed
+//! cluster), the solver reports it through [`Progress`], locks the found
+//! vectors and runs again on the deflated operator until it has them all.
+//!
+//! # Residuals
+//! Each mode's residual is `||K x - lambda M x|| / ||K x||`; for a rigid-body
+//! mode, whose `K x` is itself round-off, the denominator is the floor
+//! `||K|| ||x||` (with `||K||` the largest diagonal entry of `K`), used when
+//! `max(||K x||, |lambda| ||M x||) < 1e-8 ||K|| ||x||`. This is the measure
+//! `flexbody modes` prints.
+
+use crate::eigen::EigenPairs;
+use crate::ordering::Ordering;
+use crate::progress::{Progress, Stage};
+use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
+use crate::{LinalgError, SparseMat};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, ColRef, Mat, MatMut, MatRef, Side};
+use std::time::Instant;
+
+/// Which eigenpairs to compute.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Wanted {
+    /// The lowest `n` eigenpairs.
+    Lowest(usize),
+    /// All eigenpairs with `lambda` below this bound (rad^2/s^2; a frequency
+    /// `f` in Hz is the bound `(2 pi f)^2`).
+    Below(f64),
+}
+
+/// Tuning of [`lanczos`].
+#[derive(Copy, Clone, Debug)]
+pub struct LanczosParams {
+    /// Vectors per Lanczos block: right-hand sides per sweep through `L`,
+    /// and the largest multiplicity found without a Sturm restart.
+    pub block_size: usize,
+    /// Largest basis (vectors kept between restarts plus new ones); 0 takes
+    /// `2 nev + 4 block_size`.
+    pub basis_size: usize,
+    /// A Ritz pair is converged when `||OP x - theta x||_M <= tolerance * theta`.
+    pub tolerance: f64,
+    /// The shift `sigma`; `None` takes `-1e-6 trace(K) / trace(M)`, below
+    /// every eigenvalue and scaled to the model.
+    pub shift: Option<f64>,
+    /// Largest number of block expansions before giving up.
+    pub max_steps: usize,
+    /// Factorise `K - s M` once more above the highest wanted eigenvalue and
+    /// compare the inertia with the modes found (costs one factorisation).
+    pub sturm_check: bool,
+    /// Fill-reducing ordering of the factorisations.
+    pub ordering: Ordering,
+}
+
+impl Default for LanczosParams {
+    fn default() -> Self {
+        Self {
+            block_size: 8,
+            basis_size: 0,
+            tolerance: 1e-10,
+            shift: None,
+            max_steps: 1000,
+            sturm_check: true,
+            ordering: Ordering::Auto,
+        }
+    }
+}
+
+/// Outcome of the Sturm check.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SturmReport {
+    /// The shift `s` of the check (rad^2/s^2).
+    pub bound: f64,
+    /// Eigenvalues below `bound` by the inertia of `K - bound M`.
+    pub count: usize,
+    /// Eigenvalues below `bound` the first Lanczos run found; less than
+    /// `count` means the solver had to continue.
+    pub found_first: usize,
+    /// Eigenvalues below `bound` found in the end.
+    pub found: usize,
+}
+
+/// Work and time spent.
+#[derive(Clone, Debug, Default)]
+pub struct LanczosStats {
+    /// The ordering used.
+    pub ordering: Ordering,
+    /// Entries of the factor `L`.
+    pub factor_len: usize,
+    /// Right-hand sides solved with the shifted factor.
+    pub solves: usize,
+    /// Block solves (sweeps through `L`).
+    pub block_solves: usize,
+    /// Thick restarts.
+    pub restarts: usize,
+    /// Lanczos runs (more than one after a failed Sturm check).
+    pub runs: usize,
+    pub analysis_seconds: f64,
+    pub factorization_seconds: f64,
+    pub iteration_seconds: f64,
+    pub sturm_seconds: f64,
+}
+
+/// The eigenpairs with their residuals and how they were obtained.
+#[derive(Clone, Debug)]
+pub struct SparseEigen {
+    /// Eigenvalues (ascending) and M-orthonormal eigenvectors.
+    pub pairs: EigenPairs,
+    /// `||K x - lambda M x|| / ||K x||` per mode (see the module docs for the
+    /// floor of rigid-body modes).
+    pub residuals: Vec<f64>,
+    /// The shift `sigma` of the Lanczos operator.
+    pub shift: f64,
+    /// The Sturm check, if one was made.
+    pub sturm: Option<SturmReport>,
+    pub stats: LanczosStats,
+}
+
+/// The wanted eigenpairs of `K x = lambda M x` for sparse symmetric `K`
+/// (positive semi-definite) and `M` (positive semi-definite, `K + M`
+/// positive definite).
+pub fn lanczos(
+    k: &SparseMat,
+    m: &SparseMat,
+    wanted: Wanted,
+    params: &LanczosParams,
+    progress: &dyn Progress,
+) -> Result<SparseEigen, LinalgError> {
+    let start = Instant::now();
+    let n = k.nrows();
+    let mut stats = LanczosStats::default();
+    let t = Instant::now();
+    progress.report(&Stage::Ordering { equations: n });
+    let pencil = ShiftedPencil::analyze(k, m, params.ordering)?;
+    stats.analysis_seconds = t.elapsed().as_secs_f64();
+    stats.ordering = pencil.ordering();
+    stats.factor_len = pencil.factor_len();
+    progress.report(&Stage::Analyzed {
+        factor_len: stats.factor_len,
+        seconds: stats.analysis_seconds,
+    });
+    let k_diag = crate::sparse::diagonal(k);
+    let m_diag = crate::sparse::diagonal(m);
+    let trace_k: f64 = k_diag.iter().map(|v| v.abs()).sum();
+    let trace_m: f64 = m_diag.iter().map(|v| v.abs()).sum();
+    if trace_m == 0.0 || n == 0 {
+        return Err(LinalgError::NotPositiveDefinite { index: 0 });
+    }
+    let sigma = params
+        .shift
+        .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE));
+    let t = Instant::now();
+    let factor = factorize(&pencil, sigma, progress)?;
+    stats.factorization_seconds = t.elapsed().as_secs_f64();
+    if factor.inertia().negative > 0 {
+        return Err(LinalgError::Dimension(format!(
+            "the Lanczos shift {sigma:e} lies above {} eigenvalues; it must lie below the spectrum",
+            factor.inertia().negative
+        )));
+    }
+
+    // For a band, the Sturm count at its upper bound is the number wanted.
+    let mut sturm: Option<(f64, usize)> = None;
+    let nev = match wanted {
+        Wanted::Lowest(count) => count,
+        Wanted::Below(bound) => {
+            let t = Instant::now();
+            let count = sturm_count(&pencil, bound, progress)?;
+            stats.sturm_seconds += t.elapsed().as_secs_f64();
+            sturm = Some((bound, count));
+            count
+        }
+    };
+    if nev == 0 {
+        return Ok(SparseEigen {
+            pairs: EigenPairs {
+                values: vec![],
+                vectors: Mat::zeros(n, 0),
+            },
+            residuals: vec![],
+            shift: sigma,
+            sturm: sturm.map(|(bound, count)| SturmReport {
+                bound,
+                count,
+                found_first: 0,
+                found: 0,
+            }),
+            stats,
+        });
+    }
+    let t = Instant::now();
+    let mut op = Operator {
+        factor: &factor,
+        m,
+        solves: 0,
+        block_solves: 0,
+    };
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut locked = Locked {
+        x: Mat::zeros(n, 0),
+        mx: Mat::zeros(n, 0),
+        theta: vec![],
+    };
+    let mut found = krylov_schur(
+        &mut op, &locked, nev, params, progress, &mut rng, &mut stats,
+    )?;
+    locked.append(found);
+    let mut report = None;
+    if params.sturm_check || sturm.is_some() {
+        let lambdas = |l: &Locked| -> Vec<f64> {
+            let mut v: Vec<f64> = l.theta.iter().map(|t| sigma + 1.0 / t).collect();
+            v.sort_by(f64::total_cmp);
+            v
+        };
+        let (bound, count) = match sturm {
+            Some(s) => s,
+            None => {
+                let v = lambdas(&locked);
+                let top = v[nev.min(v.len()) - 1];
+                let bound = top + 1e-4 * (top - sigma).abs();
+                let t = Instant::now();
+                let count = sturm_count(&pencil, bound, progress)?;
+                stats.sturm_seconds += t.elapsed().as_secs_f64();
+                (bound, count)
+            }
+        };
+        let below = |l: &Locked| lambdas(l).iter().filter(|&&x| x < bound).count();
+        let found_first = below(&locked);
+        let mut attempts = 0;
+        loop {
+            let have = below(&locked);
+            progress.report(&Stage::SturmCheck {
+                bound,
+                count,
+                found: have,
+            });
+            if have >= count || attempts == 16 {
+                report = Some(SturmReport {
+                    bound,
+                    count,
+                    found_first,
+                    found: have,
+                });
+                break;
+            }
+            attempts += 1;
+            found = krylov_schur(
+                &mut op,
+                &locked,
+                count - have,
+                params,
+                progress,
+                &mut rng,
+                &mut stats,
+            )?;
+            locked.append(found);
+        }
+    }
+    stats.solves = op.solves;
+    stats.block_solves = op.block_solves;
+    stats.iteration_seconds = t.elapsed().as_secs_f64() - stats.sturm_seconds;
+
+    // Ascending lambda, the wanted ones.
+    let mut order: Vec<usize> = (0..locked.theta.len()).collect();
+    order.sort_by(|&a, &b| locked.theta[b].total_cmp(&locked.theta[a]));
+    let keep = match wanted {
+        Wanted::Lowest(count) => count.min(order.len()),
+        Wanted::Below(bound) => order
+            .iter()
+            .filter(|&&i| sigma + 1.0 / locked.theta[i] < bound)
+            .count(),
+    };
+    order.truncate(keep);
+    let vectors = Mat::from_fn(n, order.len(), |i, j| locked.x[(i, order[j])]);
+    // The Ritz values carry round-off of eps theta_max (1e-10 relative for
+    // the elastic modes of a free body at a small shift); the vectors are
+    // accurate, so their Rayleigh quotients give the eigenvalues.
+    let values = rayleigh_quotients(k, vectors.as_ref(), locked.mx.as_ref(), &order);
+    let residuals = residuals(k, m, &values, vectors.as_ref(), &k_diag);
+    progress.report(&Stage::Done {
+        seconds: start.elapsed().as_secs_f64(),
+    });
+    Ok(SparseEigen {
+        pairs: EigenPairs { values, vectors },
+        residuals,
+        shift: sigma,
+        sturm: report,
+        stats,
+    })
+}
+
+/// `x^T K x / x^T M x` of each column of `x` (`mx` holds `M x` for the
+/// columns `order` of the locked set).
+fn rayleigh_quotients(
+    k: &SparseMat,
+    x: MatRef<'_, f64>,
+    mx: MatRef<'_, f64>,
+    order: &[usize],
+) -> Vec<f64> {
+    let kx = k * x;
+    (0..x.ncols())
+        .map(|j| dot(x.col(j), kx.col(j)) / dot(x.col(j), mx.col(order[j])))
+        .collect()
+}
+
+/// `||K x - lambda M x|| / ||K x||` per column, with the rigid-body floor
+/// `||K|| ||x||` of the module docs.
+pub fn residuals(
+    k: &SparseMat,
+    m: &SparseMat,
+    values: &[f64],
+    vectors: MatRef<'_, f64>,
+    k_diag: &[f64],
+) -> Vec<f64> {
+    let k_norm = k_diag.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let kx = k * vectors;
+    let mx = m * vectors;
+    (0..values.len())
+        .map(|j| {
+            let r = kx.col(j) - mx.col(j) * faer::Scale(values[j]);
+            let floor = k_norm * vectors.col(j).norm_l2();
+            let scale = kx
+                .col(j)
+                .norm_l2()
+                .max(mx.col(j).norm_l2() * values[j].abs());
+            let scale = if scale < 1e-8 * floor { floor } else { scale };
+            if scale > 0.0 {
+                r.norm_l2() / scale
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+fn factorize(
+    pencil: &ShiftedPencil,
+    shift: f64,
+    progress: &dyn Progress,
+) -> Result<ShiftedFactor, LinalgError> {
+    let t = Instant::now();
+    progress.report(&Stage::Factorization { shift });
+    let f = pencil.factorize(shift)?;
+    progress.report(&Stage::Factorized {
+        shift,
+        seconds: t.elapsed().as_secs_f64(),
+    });
+    Ok(f)
+}
+
+/// Eigenvalues below `bound` by the inertia of `K - bound M`; a shift on an
+/// eigenvalue (zero pivot) is moved up by a relative 1e-8.
+fn sturm_count(
+    pencil: &ShiftedPencil,
+    bound: f64,
+    progress: &dyn Progress,
+) -> Result<usize, LinalgError> {
+    let mut s = bound;
+    for _ in 0..3 {
+        match factorize(pencil, s, progress) {
+            Ok(f) => return Ok(f.inertia().negative + f.inertia().zero),
+            Err(LinalgError::Singular { .. }) => s += 1e-8 * s.abs().max(f64::MIN_POSITIVE),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(LinalgError::Faer(format!(
+        "no Sturm count near {bound:e}: K - s M stays singular"
+    )))
+}
+
+/// `OP = (K - sigma M)^-1 M`, counting solves.
+struct Operator<'a> {
+    factor: &'a ShiftedFactor,
+    m: &'a SparseMat,
+    solves: usize,
+    block_solves: usize,
+}
+
+impl Operator<'_> {
+    /// `(K - sigma M)^-1 Y` for `Y = M V` given.
+    fn solve(&mut self, mv: MatRef<'_, f64>) -> Mat<f64> {
+        let mut x = mv.to_owned();
+        self.factor.solve_in_place(x.as_mut());
+        self.solves += x.ncols();
+        self.block_solves += 1;
+        x
+    }
+}
+
+/// Converged vectors, `M` times them, and their `theta`.
+struct Locked {
+    x: Mat<f64>,
+    mx: Mat<f64>,
+    theta: Vec<f64>,
+}
+
+impl Locked {
+    fn append(&mut self, other: Locked) {
+        let n = self.x.nrows();
+        let (a, b) = (self.x.ncols(), other.x.ncols());
+        let cat = |p: &Mat<f64>, q: &Mat<f64>| {
+            Mat::from_fn(
+                n,
+                a + b,
+                |i, j| if j < a { p[(i, j)] } else { q[(i, j - a)] },
+            )
+        };
+        self.x = cat(&self.x, &other.x);
+        self.mx = cat(&self.mx, &other.mx);
+        self.theta.extend(other.theta);
+    }
+}
+
+/// Deterministic start vectors (xorshift64*).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+        (v >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+fn dot(a: ColRef<'_, f64>, b: ColRef<'_, f64>) -> f64 {
+    a.transpose() * b
+}
+
+/// `W -= X (X^T MW)`, `MW -= MX (X^T MW)`; returns `X^T MW`.
+fn project_out(
+    w: MatMut<'_, f64>,
+    mw: MatMut<'_, f64>,
+    x: MatRef<'_, f64>,
+    mx: MatRef<'_, f64>,
+) -> Mat<f64> {
+    let par = faer::get_global_parallelism();
+    let c = x.transpose() * mw.as_ref();
+    matmul(w, Accum::Add, x, c.as_ref(), -1.0, par);
+    matmul(mw, Accum::Add, mx, c.as_ref(), -1.0, par);
+    c
+}
+
+/// M-orthonormalises the columns of `w` (with `mw = M w`) in place by
+/// Gram-Schmidt twice; returns the upper-triangular `B` with `W_in = Q B`.
+/// A column that vanishes (`<= 1e-10` of `before`, its M-norm before the
+/// projection on the basis) is replaced by a random vector orthogonal to
+/// `locked`, `basis` and the earlier columns, with a zero column in `B`.
+fn orthonormalize_block(
+    w: &mut Mat<f64>,
+    mw: &mut Mat<f64>,
+    before: &[f64],
+    others: &[(MatRef<'_, f64>, MatRef<'_, f64>)],
+    m: &SparseMat,
+    rng: &mut Rng,
+) -> Mat<f64> {
+    let (n, b) = (w.nrows(), w.ncols());
+    let mut r = Mat::<f64>::zeros(b, b);
+    for i in 0..b {
+        for _pass in 0..2 {
+            for j in 0..i {
+                let c = dot(w.col(j), mw.col(i));
+                r[(j, i)] += c;
+                for p in 0..n {
+                    w[(p, i)] -= c * w[(p, j)];
+                    mw[(p, i)] -= c * mw[(p, j)];
+                }
+            }
+        }
+        let norm = dot(w.col(i), mw.col(i)).max(0.0).sqrt();
+        if norm > 1e-10 * before[i] && norm.is_finite() {
+            r[(i, i)] = norm;
+            for p in 0..n {
+                w[(p, i)] /= norm;
+                mw[(p, i)] /= norm;
+            }
+            continue;
+        }
+        // Breakdown: an invariant subspace; continue with a fresh direction.
+        let mut z = Mat::from_fn(n, 1, |_, _| rng.next());
+        let mut mz = m * &z;
+        for _pass in 0..2 {
+            for (x, mx) in others {
+                project_out(z.as_mut(), mz.as_mut(), *x, *mx);
+            }
+            for j in 0..i {
+                let c = dot(w.col(j), mz.col(0));
+                for p in 0..n {
+                    z[(p, 0)] -= c * w[(p, j)];
+                    mz[(p, 0)] -= c * mw[(p, j)];
+                }
+            }
+        }
+        let norm = dot(z.col(0), mz.col(0)).max(0.0).sqrt();
+        for p in 0..n {
+            w[(p, i)] = z[(p, 0)] / norm;
+            mw[(p, i)] = mz[(p, 0)] / norm;
+        }
+        for j in 0..i {
+            r[(j, i)] = 0.0;
+        }
+    }
+    r
+}
+
+/// One thick-restart block Lanczos run for the `nev` largest `theta` of
+/// `OP` deflated by `locked`; returns every converged Ritz pair (at least
+/// the `nev` wanted ones).
+fn krylov_schur(
+    op: &mut Operator<'_>,
+    locked: &Locked,
+    nev: usize,
+    params: &LanczosParams,
+    progress: &dyn Progress,
+    rng: &mut Rng,
+    stats: &mut LanczosStats,
+) -> Result<Locked, LinalgError> {
+    stats.runs += 1;
+    let m = op.m;
+    let n = m.nrows();
+    let free = n - locked.x.ncols();
+    let b = params.block_size.max(1).min(free.max(1));
+    let p_max = if params.basis_size > 0 {
+        params.basis_size.max(nev + 2 * b)
+    } else {
+        2 * nev + 4 * b
+    }
+    .min(free);
+    if p_max < nev + b && p_max < free {
+        return Err(LinalgError::Dimension(format!(
+            "{nev} eigenpairs of a {n}-equation model: too many for Lanczos"
+        )));
+    }
+    let restart_size = ((nev + p_max - b) / 2)
+        .min(p_max.saturating_sub(2 * b))
+        .max(nev)
+        .min(p_max.saturating_sub(b));
+    let mut v = Mat::<f64>::zeros(n, p_max);
+    let mut mv = Mat::<f64>::zeros(n, p_max);
+    let mut h = Mat::<f64>::zeros(p_max, p_max);
+    let lk = (locked.x.as_ref(), locked.mx.as_ref());
+
+    // Start block: OP applied to random vectors (in the range of OP).
+    {
+        let z = Mat::from_fn(n, b, |_, _| rng.next());
+        let mz = m * &z;
+        let mut w = op.solve(mz.as_ref());
+        let mut mw = m * &w;
+        let before: Vec<f64> = (0..b)
+            .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
+            .collect();
+        for _ in 0..2 {
+            project_out(w.as_mut(), mw.as_mut(), lk.0, lk.1);
+        }
+        orthonormalize_block(&mut w, &mut mw, &before, &[lk], m, rng);
+        v.subcols_mut(0, b).copy_from(&w);
+        mv.subcols_mut(0, b).copy_from(&mw);
+    }
+    let (mut e, mut c) = (0usize, b);
+    let mut step = 0;
+    loop {
+        step += 1;
+        if step > params.max_steps {
+            return Err(LinalgError::Faer(format!(
+                "Lanczos did not converge in {} steps ({nev} eigenpairs wanted)",
+                params.max_steps
+            )));
+        }
+        // Expand the pending block [e, c).
+        let blk = c - e;
+        let mut w = op.solve(mv.subcols(e, blk));
+        let mut mw = m * &w;
+        let before: Vec<f64> = (0..blk)
+            .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
+            .collect();
+        let mut coef = Mat::<f64>::zeros(c, blk);
+        // Classical Gram-Schmidt, repeated while a pass cancels more than
+        // half of a column (at most 4 passes).
+        let mut norms = before.clone();
+        for _ in 0..4 {
+            project_out(w.as_mut(), mw.as_mut(), lk.0, lk.1);
+            coef += project_out(w.as_mut(), mw.as_mut(), v.subcols(0, c), mv.subcols(0, c));
+            let after: Vec<f64> = (0..blk)
+                .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
+                .collect();
+            let again = (0..blk).any(|j| after[j] < 0.5 * norms[j] && after[j] > 1e-12 * before[j]);
+            norms = after;
+            if !again {
+                break;
+            }
+        }
+        for j in 0..blk {
+            for i in 0..c {
+                h[(i, e + j)] = coef[(i, j)];
+                h[(e + j, i)] = coef[(i, j)];
+            }
+        }
+        for j in 0..blk {
+            for i in 0..j {
+                let s = 0.5 * (h[(e + i, e + j)] + h[(e + j, e + i)]);
+                h[(e + i, e + j)] = s;
+                h[(e + j, e + i)] = s;
+            }
+        }
+        let bmat = {
+            let others = [lk, (v.subcols(0, c), mv.subcols(0, c))];
+            orthonormalize_block(&mut w, &mut mw, &before, &others, m, rng)
+        };
+        let e_prev = e;
+        e = c;
+        let full = c + blk > p_max || e >= free;
+        if !full {
+            v.subcols_mut(c, blk).copy_from(&w);
+            mv.subcols_mut(c, blk).copy_from(&mw);
+            for j in 0..blk {
+                for i in 0..blk {
+                    h[(c + i, e_prev + j)] = bmat[(i, j)];
+                    h[(e_prev + j, c + i)] = bmat[(i, j)];
+                }
+            }
+            c += blk;
+        }
+        // Rayleigh-Ritz on the expanded part.
+        let evd = h
+            .submatrix(0, 0, e, e)
+            .self_adjoint_eigen(Side::Lower)
+            .map_err(|err| LinalgError::Faer(format!("{err:?}")))?;
+        let s = evd.S();
+        let u = evd.U();
+        // Descending theta.
+        let idx: Vec<usize> = (0..e).rev().collect();
+        let theta: Vec<f64> = idx.iter().map(|&i| s[i]).collect();
+        let last = u.subrows(e_prev, blk);
+        let estimate: Vec<f64> = idx
+            .iter()
+            .map(|&i| {
+                if e >= free {
+                    0.0
+                } else {
+                    (bmat.as_ref() * last.col(i)).norm_l2()
+                }
+            })
+            .collect();
+        // Round-off in H is about eps theta_max (the rigid-body modes' theta
+        // when the shift is small): no residual gets below that.
+        let floor = 64.0 * f64::EPSILON * theta.first().map_or(0.0, |t| t.abs());
+        let conv: Vec<bool> = (0..e)
+            .map(|i| estimate[i] <= (params.tolerance * theta[i].abs()).max(floor))
+            .collect();
+        let wanted_conv = conv.iter().take(nev).filter(|&&x| x).count();
+        progress.report(&Stage::Iteration {
+            step,
+            solves: op.solves,
+            converged: wanted_conv.min(nev),
+            wanted: nev,
+            basis: e,
+        });
+        if wanted_conv >= nev.min(e) && e >= nev {
+            let pick: Vec<usize> = (0..e).filter(|&i| conv[i] && theta[i] > 0.0).collect();
+            let y = Mat::from_fn(e, pick.len(), |r, j| u[(r, idx[pick[j]])]);
+            let x = v.subcols(0, e) * &y;
+            let mx = mv.subcols(0, e) * &y;
+            return Ok(Locked {
+                x,
+                mx,
+                theta: pick.iter().map(|&i| theta[i]).collect(),
+            });
+        }
+        if full {
+            // Thick restart: the best Ritz vectors plus the residual block.
+            let kk = restart_size.min(e);
+            stats.restarts += 1;
+            let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[j])]);
+            let new_v = v.subcols(0, e) * &y;
+            let new_mv = mv.subcols(0, e) * &y;
+            v.subcols_mut(0, kk).copy_from(&new_v);
+            mv.subcols_mut(0, kk).copy_from(&new_mv);
+            v.subcols_mut(kk, blk).copy_from(&w);
+            mv.subcols_mut(kk, blk).copy_from(&mw);
+            h.fill(0.0);
+            let coupling = bmat.as_ref() * y.subrows(e_prev, blk);
+            for j in 0..kk {
+                h[(j, j)] = theta[j];
+                for i in 0..blk {
+                    h[(kk + i, j)] = coupling[(i, j)];
+                    h[(j, kk + i)] = coupling[(i, j)];
+                }
+            }
+            e = kk;
+            c = kk + blk;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

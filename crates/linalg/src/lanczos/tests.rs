@@ -1,0 +1,221 @@
+//! The Lanczos solver against the dense one, on 3D spring lattices built in
+//! code (free bodies with 6 rigid-body modes; cubes have repeated
+//! eigenvalues).
+
+use super::*;
+use crate::eigen::generalized_symmetric;
+use crate::progress::NoProgress;
+use crate::sparse::from_triplets;
+use faer::sparse::Triplet;
+
+/// A free truss lattice of `nx * ny * nz` nodes with unit spacing: springs
+/// along every edge, face diagonal and body diagonal of each cell (stiffness
+/// `1 / length`), 3 DOFs per node, lumped masses (1, or varied when `skew`).
+/// With `hinge`, the lattice is cut into two halves along x that share only
+/// one node: a mechanism with 3 extra zero modes.
+fn lattice(nx: usize, ny: usize, nz: usize, skew: bool, hinge: bool) -> (SparseMat, SparseMat) {
+    let id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+    let coords = |v: usize| {
+        let (i, j, k) = (v % nx, (v / nx) % ny, v / (nx * ny));
+        [i as f64, j as f64, k as f64]
+    };
+    let nn = nx * ny * nz;
+    let mut t = Vec::new();
+    let mid = nx / 2;
+    for k in 0..nz.saturating_sub(1) {
+        for j in 0..ny.saturating_sub(1) {
+            for i in 0..nx - 1 {
+                let corners: Vec<usize> = (0..8)
+                    .map(|c| id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1)))
+                    .collect();
+                if hinge && i == mid {
+                    continue;
+                }
+                for a in 0..8 {
+                    for b in a + 1..8 {
+                        let (p, q) = (corners[a], corners[b]);
+                        let (x, y) = (coords(p), coords(q));
+                        let d = [y[0] - x[0], y[1] - x[1], y[2] - x[2]];
+                        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                        let s = 1.0 / len;
+                        for r in 0..3 {
+                            for c in 0..3 {
+                                let v = s * d[r] * d[c] / (len * len);
+                                t.push(Triplet::new(3 * p + r, 3 * p + c, v));
+                                t.push(Triplet::new(3 * q + r, 3 * q + c, v));
+                                t.push(Triplet::new(3 * p + r, 3 * q + c, -v));
+                                t.push(Triplet::new(3 * q + r, 3 * p + c, -v));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if hinge {
+        // Join the two halves at one node: a spherical hinge.
+        let (a, b) = (id(mid, 0, 0), id(mid + 1, 0, 0));
+        for r in 0..3 {
+            let s = 10.0;
+            t.push(Triplet::new(3 * a + r, 3 * a + r, s));
+            t.push(Triplet::new(3 * b + r, 3 * b + r, s));
+            t.push(Triplet::new(3 * a + r, 3 * b + r, -s));
+            t.push(Triplet::new(3 * b + r, 3 * a + r, -s));
+        }
+    }
+    let mass: Vec<Triplet<usize, usize, f64>> = (0..3 * nn)
+        .map(|i| {
+            let v = if skew {
+                1.0 + 0.37 * ((i / 3 * 7) % 5) as f64
+            } else {
+                1.0
+            };
+            Triplet::new(i, i, v)
+        })
+        .collect();
+    let n = 3 * nn;
+    (
+        from_triplets(n, n, &t).unwrap(),
+        from_triplets(n, n, &mass).unwrap(),
+    )
+}
+
+fn dense(k: &SparseMat, m: &SparseMat) -> Vec<f64> {
+    generalized_symmetric(k.to_dense().as_ref(), m.to_dense().as_ref())
+        .unwrap()
+        .values
+}
+
+/// Values agree to `tol` relative, zero (rigid) ones to `tol` of the first
+/// elastic one.
+fn assert_same(got: &[f64], want: &[f64], tol: f64) {
+    assert_eq!(got.len(), want.len(), "{got:?} vs {want:?}");
+    let elastic = want.iter().copied().find(|l| *l > 1e-8).unwrap_or(1.0);
+    for (g, w) in got.iter().zip(want) {
+        let scale = if w.abs() < 1e-8 * elastic {
+            elastic
+        } else {
+            w.abs()
+        };
+        assert!((g - w).abs() <= tol * scale, "{g} vs {w} ({got:?})");
+    }
+}
+
+fn solve(k: &SparseMat, m: &SparseMat, wanted: Wanted, params: &LanczosParams) -> SparseEigen {
+    lanczos(k, m, wanted, params, &NoProgress).unwrap()
+}
+
+#[test]
+fn free_lattice_equals_the_dense_solver() {
+    let (k, m) = lattice(9, 4, 3, true, false);
+    let want = dense(&k, &m);
+    for ordering in [Ordering::Amd, Ordering::NestedDissection] {
+        let params = LanczosParams {
+            ordering,
+            ..Default::default()
+        };
+        let got = solve(&k, &m, Wanted::Lowest(20), &params);
+        assert_same(&got.pairs.values, &want[..20], 1e-10);
+        for (j, r) in got.residuals.iter().enumerate() {
+            assert!(*r < 1e-7, "mode {j}: residual {r}");
+        }
+        // M-orthonormal.
+        let x = &got.pairs.vectors;
+        let g = x.transpose() * &m * x;
+        for i in 0..20 {
+            for j in 0..20 {
+                let d = if i == j { 1.0 } else { 0.0 };
+                assert!((g[(i, j)] - d).abs() < 1e-10);
+            }
+        }
+        let s = got.sturm.unwrap();
+        assert_eq!(s.count, 20);
+        assert_eq!(s.found, 20);
+    }
+}
+
+#[test]
+fn medium_lattice_with_restarts_equals_the_dense_solver() {
+    // 576 DOFs, 30 modes with a small block: several thick restarts.
+    let (k, m) = lattice(12, 4, 4, true, false);
+    let want = dense(&k, &m);
+    let params = LanczosParams {
+        block_size: 4,
+        basis_size: 40,
+        ..Default::default()
+    };
+    let got = solve(&k, &m, Wanted::Lowest(30), &params);
+    assert!(got.stats.restarts > 0, "{:?}", got.stats);
+    assert_same(&got.pairs.values, &want[..30], 1e-10);
+}
+
+#[test]
+fn cube_multiplicities_are_complete() {
+    // A cubic lattice: eigenvalues in 2- and 3-fold clusters.
+    let (k, m) = lattice(6, 6, 6, false, false);
+    let want = dense(&k, &m);
+    // A count that ends a cluster.
+    let count = (20..40)
+        .find(|&c| want[c] > want[c - 1] * (1.0 + 1e-6))
+        .unwrap();
+    let repeated = (7..count)
+        .filter(|&i| (want[i] - want[i - 1]).abs() < 1e-8 * want[i])
+        .count();
+    assert!(repeated >= 4, "the cube should have repeated eigenvalues");
+    let got = solve(&k, &m, Wanted::Lowest(count), &LanczosParams::default());
+    assert_same(&got.pairs.values, &want[..count], 1e-10);
+}
+
+#[test]
+fn sturm_check_makes_a_single_vector_find_a_fourfold_eigenvalue() {
+    // A diagonal pencil: a Krylov space of one start vector holds one
+    // vector of each eigenspace, round-off never adds a second. The Sturm
+    // count above the 4-fold eigenvalue must make the solver continue.
+    let n = 400;
+    let lambda = |i: usize| if i < 4 { 2.0 } else { 1.0 + i as f64 };
+    let k = from_triplets(
+        n,
+        n,
+        &(0..n)
+            .map(|i| Triplet::new(i, i, lambda(i)))
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let m = from_triplets(
+        n,
+        n,
+        &(0..n).map(|i| Triplet::new(i, i, 1.0)).collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let params = LanczosParams {
+        block_size: 1,
+        ..Default::default()
+    };
+    let got = solve(&k, &m, Wanted::Lowest(6), &params);
+    let s = got.sturm.unwrap();
+    assert!(s.found_first < s.count, "{s:?}");
+    assert_eq!(s.found, s.count);
+    assert_same(&got.pairs.values, &[2.0, 2.0, 2.0, 2.0, 5.0, 6.0], 1e-12);
+}
+
+#[test]
+fn modes_below_a_bound_match_the_dense_count() {
+    let (k, m) = lattice(8, 3, 3, true, false);
+    let want = dense(&k, &m);
+    let bound = 0.5 * (want[17] + want[18]);
+    let got = solve(&k, &m, Wanted::Below(bound), &LanczosParams::default());
+    assert_eq!(got.sturm.unwrap().count, 18);
+    assert_same(&got.pairs.values, &want[..18], 1e-10);
+}
+
+#[test]
+fn a_hinge_shows_nine_zero_modes() {
+    // Two lattices joined at one node: 6 rigid-body modes plus 3 rotations
+    // about the hinge, all at zero frequency.
+    let (k, m) = lattice(8, 3, 3, false, true);
+    let got = solve(&k, &m, Wanted::Lowest(12), &LanczosParams::default());
+    let v = &got.pairs.values;
+    let zero = v.iter().filter(|l| l.abs() < 1e-10 * v[11]).count();
+    assert_eq!(zero, 9, "{v:?}");
+    assert_same(v, &dense(&k, &m)[..12], 1e-10);
+}

@@ -1,0 +1,78 @@
+//! A progress hook for long computations (ordering, factorisations, Lanczos
+//! iterations, block solves), so that a terminal front end can show where a
+//! large model is. The kernels call [`Progress::report`]; the default does
+//! nothing.
+//!
+//! Kernels take a `&dyn Progress` argument. Callers deep inside a pipeline
+//! (a reduction method calling the eigen solver) use the process-wide hook of
+//! [`set_global`] / [`global`] instead, so that the CLI can install an
+//! indicatif bar once.
+
+use std::sync::{Arc, RwLock};
+
+/// A stage of a long computation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stage {
+    /// Fill-reducing ordering and symbolic analysis of an `n`-equation matrix.
+    Ordering { equations: usize },
+    /// Symbolic analysis done: `factor_len` entries in `L`.
+    Analyzed { factor_len: usize, seconds: f64 },
+    /// Numeric `LDL^T` of `K - shift M` started.
+    Factorization { shift: f64 },
+    /// Numeric factorisation finished.
+    Factorized { shift: f64, seconds: f64 },
+    /// A Lanczos expansion step: `solves` right-hand sides so far,
+    /// `converged` of `wanted` eigenpairs converged, basis of `basis` vectors.
+    Iteration {
+        step: usize,
+        solves: usize,
+        converged: usize,
+        wanted: usize,
+        basis: usize,
+    },
+    /// The Sturm check at `bound` counts `count` eigenvalues below it, of
+    /// which the solver had found `found`; when `count > found` it continues.
+    SturmCheck {
+        bound: f64,
+        count: usize,
+        found: usize,
+    },
+    /// A block solve of `columns` right-hand sides (static modes).
+    Solves { columns: usize },
+    /// The computation finished.
+    Done { seconds: f64 },
+}
+
+/// Receives [`Stage`]s. Implementations must be cheap: `report` is called
+/// once per Lanczos step.
+pub trait Progress: Send + Sync {
+    /// Called at each stage; the default ignores it.
+    fn report(&self, stage: &Stage) {
+        let _ = stage;
+    }
+}
+
+/// The progress hook that ignores everything.
+#[derive(Copy, Clone, Debug, Default)]
+pub struct NoProgress;
+
+impl Progress for NoProgress {}
+
+static GLOBAL: RwLock<Option<Arc<dyn Progress>>> = RwLock::new(None);
+
+/// Installs the process-wide hook (e.g. a terminal progress bar); `None`
+/// removes it.
+pub fn set_global(hook: Option<Arc<dyn Progress>>) {
+    if let Ok(mut g) = GLOBAL.write() {
+        *g = hook;
+    }
+}
+
+/// The process-wide hook, or [`NoProgress`].
+pub fn global() -> Arc<dyn Progress> {
+    GLOBAL
+        .read()
+        .ok()
+        .and_then(|g| g.clone())
+        .unwrap_or_else(|| Arc::new(NoProgress))
+}

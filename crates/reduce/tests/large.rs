@@ -1,0 +1,226 @@
+//! The sparse eigen path of `eigenmodes` on solid models built in code:
+//! it equals the dense solver, finds repeated frequencies with their full
+//! multiplicity, and a mechanism is reported through `reduce`.
+
+use faer::Mat;
+use flexbody_fem::element::solid::{Solid, SolidKind};
+use flexbody_fem::{Element, Material, Model, Node, Substructure};
+use flexbody_linalg::lanczos::{lanczos, LanczosParams, Wanted};
+use flexbody_linalg::progress::NoProgress;
+use flexbody_reduce::modes::eigen::{eigenmodes_with, EigenSolver, SPARSE_FROM};
+use flexbody_reduce::{reduce, Method, ReduceError, Reduction};
+use std::collections::BTreeMap;
+
+/// A steel C3D8 bar of `nx * ny * nz` elements over `size` (m). With
+/// `dangling`, one more element hangs on the corner node at
+/// `(size_x, 0, 0)` by that node alone: it can rotate about it (a
+/// mechanism with 3 zero-frequency modes besides the 6 rigid ones).
+fn block(nx: usize, ny: usize, nz: usize, size: [f64; 3], dangling: bool) -> Substructure {
+    let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
+    let mut nodes = Vec::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                nodes.push(Node {
+                    id: id(i, j, k),
+                    coords: [
+                        size[0] * i as f64 / nx as f64,
+                        size[1] * j as f64 / ny as f64,
+                        size[2] * k as f64 / nz as f64,
+                    ],
+                });
+            }
+        }
+    }
+    let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+    let mut elements = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                elements.push(Element::Solid(Solid {
+                    id: elements.len() + 1,
+                    kind: SolidKind::C3D8,
+                    nodes: vec![
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ],
+                    material: steel.clone(),
+                }));
+            }
+        }
+    }
+    if dangling {
+        // The cube [L, L+h] x [-h, 0] x [-h, 0]; its 8th node is (L, 0, 0).
+        let (l, h) = (size[0], size[0] / nx as f64);
+        let first = 1_000_000u64;
+        let corners = [
+            [l, -h, -h],
+            [l + h, -h, -h],
+            [l + h, 0.0, -h],
+            [l, 0.0, -h],
+            [l, -h, 0.0],
+            [l + h, -h, 0.0],
+            [l + h, 0.0, 0.0],
+        ];
+        let mut ids = Vec::new();
+        for (c, x) in corners.iter().enumerate() {
+            nodes.push(Node {
+                id: first + c as u64,
+                coords: *x,
+            });
+            ids.push(first + c as u64);
+        }
+        ids.push(id(nx, 0, 0));
+        elements.push(Element::Solid(Solid {
+            id: elements.len() + 1,
+            kind: SolidKind::C3D8,
+            nodes: ids,
+            material: steel,
+        }));
+    }
+    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
+    Substructure::from_model(&model).unwrap()
+}
+
+fn assert_close(got: &[f64], want: &[f64], tol: f64) {
+    assert_eq!(got.len(), want.len());
+    let elastic = want.iter().copied().find(|l| *l > 1.0).unwrap();
+    for (g, w) in got.iter().zip(want) {
+        let scale = if w.abs() < 1e-6 * elastic {
+            elastic
+        } else {
+            w.abs()
+        };
+        assert!(
+            (g - w).abs() <= tol * scale,
+            "{g} vs {w}\n{got:?}\n{want:?}"
+        );
+    }
+}
+
+#[test]
+fn sparse_path_equals_dense_on_a_solid_bar() {
+    // 10 x 3 x 3 C3D8: 528 DOFs, free; 20 modes (6 rigid).
+    let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let dense = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
+    let sparse = eigenmodes_with(k, m, 20, EigenSolver::Sparse).unwrap();
+    assert_close(&sparse.values, &dense.values, 1e-10);
+    // The same modes: |phi_s^T M phi_d| = 1 on the simple elastic ones.
+    let overlap = sparse.vectors.transpose() * m * &dense.vectors;
+    for j in 6..19 {
+        let v = &dense.values;
+        let simple = (v[j] - v[j - 1]).abs() > 1e-6 * v[j] && (v[j + 1] - v[j]).abs() > 1e-6 * v[j];
+        if simple {
+            assert!((overlap[(j, j)].abs() - 1.0).abs() < 1e-8, "mode {j}");
+        }
+    }
+}
+
+#[test]
+fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
+    // A 6 x 6 x 6 C3D8 cube (1029 DOFs): by symmetry, 2- and 3-fold
+    // frequencies. The sparse path (Auto at this size) must give each of
+    // them as often as the dense solver and the Sturm count.
+    let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
+    assert!(s.len() >= SPARSE_FROM);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let dense = eigenmodes_with(k, m, 40, EigenSolver::Dense)
+        .unwrap()
+        .values;
+    let count = (24..40)
+        .find(|&c| dense[c] > dense[c - 1] * (1.0 + 1e-6))
+        .unwrap();
+    let repeated = (7..count)
+        .filter(|&i| (dense[i] - dense[i - 1]).abs() < 1e-8 * dense[i])
+        .count();
+    assert!(repeated >= 6, "{dense:?}");
+    let found = lanczos(
+        k,
+        m,
+        Wanted::Lowest(count),
+        &LanczosParams::default(),
+        &NoProgress,
+    )
+    .unwrap();
+    let sturm = found.sturm.unwrap();
+    assert_eq!(sturm.count, count, "{sturm:?}");
+    assert_eq!(sturm.found, count);
+    assert_close(&found.pairs.values, &dense[..count], 1e-10);
+    // Auto takes the sparse path here and agrees.
+    let auto = flexbody_reduce::modes::eigenmodes(k, m, count).unwrap();
+    assert_close(&auto.values, &dense[..count], 1e-10);
+    let g: Mat<f64> = auto.vectors.transpose() * m * &auto.vectors;
+    for i in 0..count {
+        for j in 0..count {
+            let d = if i == j { 1.0 } else { 0.0 };
+            assert!((g[(i, j)] - d).abs() < 1e-10);
+        }
+    }
+}
+
+#[test]
+fn a_mechanism_is_reported_with_its_zero_mode_count() {
+    // A bar with one element hanging on a single node: 9 zero-frequency
+    // modes (6 rigid + 3 rotations about that node).
+    let s = block(12, 4, 4, [1.2, 0.2, 0.2], true);
+    assert!(s.len() >= SPARSE_FROM, "{} DOFs", s.len());
+    let found = lanczos(
+        &s.matrices.stiffness,
+        &s.matrices.mass,
+        Wanted::Lowest(12),
+        &LanczosParams::default(),
+        &NoProgress,
+    )
+    .unwrap();
+    let v = &found.pairs.values;
+    let zero = v.iter().filter(|l| l.abs() < 1e-6 * v[11]).count();
+    assert_eq!(zero, 9, "{v:?}");
+    let spec = Reduction::new(Method::Free, 12, vec![]);
+    match reduce(&s, &spec) {
+        Err(ReduceError::FreeMechanism { zero, rigid }) => {
+            assert_eq!((zero, rigid), (9, 6));
+        }
+        other => panic!("expected a mechanism, got {:?}", other.map(|b| b.r())),
+    }
+}
+
+/// Times both paths (run with `--release -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn time_dense_against_sparse() {
+    for (nx, ny, nz) in [
+        (4, 2, 2),
+        (6, 3, 3),
+        (10, 3, 3),
+        (10, 4, 4),
+        (14, 5, 4),
+        (20, 5, 5),
+    ] {
+        let s = block(nx, ny, nz, [1.0, 0.2, 0.2], false);
+        let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+        let t = std::time::Instant::now();
+        let d = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
+        let td = t.elapsed().as_secs_f64();
+        let t = std::time::Instant::now();
+        let sp = eigenmodes_with(k, m, 20, EigenSolver::Sparse).unwrap();
+        let ts = t.elapsed().as_secs_f64();
+        let err = d
+            .values
+            .iter()
+            .zip(&sp.values)
+            .skip(6)
+            .map(|(a, b)| ((a - b) / a).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "{} DOFs: dense {td:.3} s, sparse {ts:.3} s, max rel diff {err:e}",
+            s.len()
+        );
+    }
+}
