@@ -172,8 +172,47 @@ fn parse_method(s: &str) -> Result<Method, String> {
     })
 }
 
+/// Progress of long linear-algebra work (ordering, factorisation, Lanczos
+/// iterations, solves) as a spinner on a terminal; nothing in pipes.
+struct Spinner(indicatif::ProgressBar);
+
+impl flexbody::linalg::progress::Progress for Spinner {
+    fn report(&self, stage: &flexbody::linalg::progress::Stage) {
+        use flexbody::linalg::progress::Stage;
+        let message = match stage {
+            Stage::Ordering { equations } => format!("ordering {equations} equations"),
+            Stage::Analyzed { factor_len, seconds } => format!("analysed: {factor_len} entries in L ({seconds:.1} s)"),
+            Stage::Factorization { shift } => format!("factorising K - sigma M, sigma = {shift:.3e}"),
+            Stage::Factorized { seconds, .. } => format!("factorised ({seconds:.1} s)"),
+            Stage::Iteration {
+                step, converged, wanted, ..
+            } => format!("Lanczos step {step}: {converged} of {wanted} modes converged"),
+            Stage::SturmCheck { bound, count, found } => {
+                format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
+            }
+            Stage::Solves { columns } => format!("solving for {columns} static modes"),
+            Stage::Done { seconds } => format!("eigenmodes done ({seconds:.1} s)"),
+        };
+        self.0.set_message(message);
+        self.0.tick();
+    }
+}
+
+/// Shows progress on a terminal (stderr), stays quiet otherwise.
+fn install_progress() {
+    use std::io::IsTerminal;
+    if std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(Spinner(bar))));
+    }
+}
+
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    install_progress();
+    let result = run(Cli::parse());
+    flexbody::linalg::progress::set_global(None);
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
