@@ -232,3 +232,65 @@ fn solid_stresses_from_ritz_coordinates_equal_those_from_displacements() {
         }
     }
 }
+
+/// The hex beam deck with an interface point coupled to its x = 0 face.
+fn coupled_deck(kind: &str) -> String {
+    let text = std::fs::read_to_string(fixture("hex_beam", "inp")).unwrap();
+    let step = text.find("*STEP").unwrap();
+    format!(
+        "{}*NODE\n9001, 0.0, 0.05, 0.05\n*NSET, NSET=FACE\n1, 27, 79, 105\n*SURFACE, NAME=SFACE, TYPE=NODE\nFACE\n*COUPLING, REF NODE=9001, SURFACE=SFACE, CONSTRAINT NAME=END\n{kind}\n{}",
+        &text[..step],
+        &text[step..]
+    )
+}
+
+#[test]
+fn deck_couplings_make_interface_points() {
+    let dir = std::env::temp_dir().join(format!("flexbody-coupled-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (kind, dofs) in [
+        ("*KINEMATIC\n1, 6", 84 - 12 + 6),
+        ("*DISTRIBUTING\n1, 6", 84),
+    ] {
+        let path = dir.join("coupled.inp");
+        std::fs::write(&path, coupled_deck(kind)).unwrap();
+        let deck = load(&path, &MatrixFiles::default()).unwrap();
+        assert_eq!(deck.sub.len(), dofs, "{kind}");
+        // The point is a 6-DOF interface: a free-residual body on it alone.
+        let body = reduce(
+            &deck.sub,
+            &Reduction::new(
+                Method::FreeResidual,
+                1,
+                deck.interface(Some("9001")).unwrap(),
+            ),
+        )
+        .unwrap();
+        assert_eq!(body.r(), 6 + 6 + 1);
+    }
+    let path = dir.join("bad.inp");
+    for (text, needle) in [
+        (
+            coupled_deck("*DISTRIBUTING")
+                .replace("SURFACE=SFACE, CONSTRAINT", "SURFACE=NOPE, CONSTRAINT"),
+            "surface 'NOPE'",
+        ),
+        (
+            coupled_deck("").replace(
+                "CONSTRAINT NAME=END\n",
+                "CONSTRAINT NAME=END\n*MATERIAL, NAME=X\n",
+            ),
+            "without *KINEMATIC or *DISTRIBUTING",
+        ),
+        (
+            coupled_deck("*KINEMATIC\n1, 2"),
+            "only full rigid couplings",
+        ),
+    ] {
+        std::fs::write(&path, text).unwrap();
+        let e = load(&path, &MatrixFiles::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("bad.inp:") && e.contains(needle), "{e}");
+    }
+}

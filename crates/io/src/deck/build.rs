@@ -32,6 +32,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         sections,
         fixed,
         mut warnings,
+        surfaces,
+        couplings,
         ..
     } = reader;
 
@@ -261,6 +263,43 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
             },
         }
     })?;
+    // Interface points of *COUPLING cards.
+    let mut coupled = Vec::new();
+    let mut coupling_loc = HashMap::new();
+    for c in couplings {
+        let Some(kind) = c.kind else {
+            return Err(files.error(c.loc, "*COUPLING without *KINEMATIC or *DISTRIBUTING"));
+        };
+        let nodes = surfaces.get(&c.surface.to_ascii_uppercase()).cloned().ok_or_else(|| {
+            files.error(c.loc, format!("*COUPLING: surface '{}' is not defined as a node surface (*SURFACE, TYPE=NODE)", c.surface))
+        })?;
+        coupling_loc.insert(c.name.clone(), c.loc);
+        coupled.push(flexbody_fem::Coupling {
+            name: c.name,
+            kind,
+            point: c.point,
+            nodes,
+            weights: None,
+        });
+    }
+    let model = if coupled.is_empty() {
+        model
+    } else {
+        model.with_couplings(coupled).map_err(|err| {
+            let loc = match &err {
+                FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
+                _ => None,
+            };
+            match loc {
+                Some(loc) => files.error(loc, err.to_string()),
+                None => InputError::Invalid {
+                    path: files.paths[0].clone(),
+                    line: None,
+                    message: err.to_string(),
+                },
+            }
+        })?
+    };
     for e in model.elements() {
         e.validate(&model)
             .map_err(|err| match element_loc.get(&e.id()) {

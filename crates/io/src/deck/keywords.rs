@@ -91,12 +91,6 @@ const REFUSED: &[(&str, &str)] = &[
     ("EQUATION", "stiffness matrix (constraints between DOFs)"),
     ("MPC", "stiffness matrix (constraints between DOFs)"),
     ("RIGIDBODY", "stiffness matrix (constraints between DOFs)"),
-    ("COUPLING", "stiffness matrix (constraints between DOFs)"),
-    ("KINEMATIC", "stiffness matrix (constraints between DOFs)"),
-    (
-        "DISTRIBUTING",
-        "stiffness matrix (constraints between DOFs)",
-    ),
     (
         "KINEMATICCOUPLING",
         "stiffness matrix (constraints between DOFs)",
@@ -240,6 +234,15 @@ pub(super) struct RawElement {
     pub loc: Loc,
 }
 
+/// A `*COUPLING` with its `*KINEMATIC` or `*DISTRIBUTING` card.
+pub(super) struct DeckCoupling {
+    pub name: String,
+    pub point: NodeId,
+    pub surface: String,
+    pub kind: Option<flexbody_fem::CouplingKind>,
+    pub loc: Loc,
+}
+
 /// The deck read card by card, before sections are assigned.
 pub(super) struct Reader<'a> {
     pub files: &'a Files,
@@ -258,6 +261,9 @@ pub(super) struct Reader<'a> {
     /// Fixed DOFs with their `*BOUNDARY` data line.
     pub fixed: Vec<(Dof, Loc)>,
     pub warnings: Vec<String>,
+    /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
+    pub surfaces: BTreeMap<String, Vec<NodeId>>,
+    pub couplings: Vec<DeckCoupling>,
     warned: HashSet<String>,
     pub(super) current_material: Option<usize>,
     in_step: bool,
@@ -280,6 +286,8 @@ impl<'a> Reader<'a> {
             sections: Vec::new(),
             fixed: Vec::new(),
             warnings: Vec::new(),
+            surfaces: BTreeMap::new(),
+            couplings: Vec::new(),
             warned: HashSet::new(),
             current_material: None,
             in_step: false,
@@ -308,6 +316,9 @@ impl<'a> Reader<'a> {
                 "MASS" => self.mass(card)?,
                 "SPRING" => self.spring(card)?,
                 "INSTANCE" => self.instance(card)?,
+                "SURFACE" => self.surface(card)?,
+                "COUPLING" => self.coupling(card)?,
+                "KINEMATIC" | "DISTRIBUTING" => self.coupling_kind(card)?,
                 _ => {
                     if let Some((_, what)) = REFUSED.iter().find(|(r, _)| *r == k) {
                         return Err(self.files.error(
@@ -720,6 +731,90 @@ impl<'a> Reader<'a> {
 
     /// Abaqus assemblies: one instance of one part without a transformation
     /// is the part itself.
+    /// `*SURFACE, NAME=, TYPE=NODE`: node sets or node numbers (for
+    /// couplings); element-based surfaces are skipped with a warning.
+    fn surface(&mut self, card: &Card) -> Result<(), InputError> {
+        if !card
+            .value("TYPE")
+            .is_some_and(|t| t.eq_ignore_ascii_case("NODE"))
+        {
+            self.warn_once(
+                card,
+                ": element-based surfaces are skipped (couplings need TYPE=NODE)",
+            );
+            return Ok(());
+        }
+        let name = card.require_name(self.files, "NAME")?;
+        let mut nodes = Vec::new();
+        for line in &card.data {
+            let first = line.get(0).unwrap_or("");
+            match self.node_sets.get(&first.to_ascii_uppercase()) {
+                Some(set) => nodes.extend(set.iter().map(|(n, _)| *n)),
+                None => nodes.push(line.id(self.files, 0, "surface node or node set")?),
+            }
+        }
+        self.surfaces.insert(name, nodes);
+        Ok(())
+    }
+
+    /// `*COUPLING, REF NODE=, SURFACE=, CONSTRAINT NAME=`: an interface
+    /// point coupled to a node surface by the `*KINEMATIC` or
+    /// `*DISTRIBUTING` card that follows.
+    fn coupling(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(
+            card,
+            &["REFNODE", "SURFACE", "CONSTRAINTNAME", "ORIENTATION"],
+        );
+        let point = card
+            .require(self.files, "REFNODE")?
+            .parse::<u64>()
+            .map_err(|_| self.error(card.loc, "*COUPLING: REF NODE must be a node number"))?;
+        let surface = card.require_name(self.files, "SURFACE")?;
+        let name = card.value("CONSTRAINTNAME").map_or_else(
+            || format!("COUPLING-{}", self.couplings.len() + 1),
+            str::to_string,
+        );
+        self.couplings.push(DeckCoupling {
+            name,
+            point,
+            surface,
+            kind: None,
+            loc: card.loc,
+        });
+        Ok(())
+    }
+
+    fn coupling_kind(&mut self, card: &Card) -> Result<(), InputError> {
+        let Some(c) = self.couplings.last_mut().filter(|c| c.kind.is_none()) else {
+            return Err(self.error(
+                card.loc,
+                format!("*{} must follow a *COUPLING card", card.display),
+            ));
+        };
+        if card.keyword == "KINEMATIC" {
+            // DOF ranges: all translations (1..3) or all DOFs (1..6).
+            let mut dofs = std::collections::BTreeSet::new();
+            for line in &card.data {
+                let first = line.id(self.files, 0, "first DOF")?;
+                let last = match line.get(1) {
+                    Some(v) if !v.is_empty() => line.id(self.files, 1, "last DOF")?,
+                    _ => first,
+                };
+                dofs.extend(first..=last);
+            }
+            let all3: std::collections::BTreeSet<u64> = (1..=3).collect();
+            let all6: std::collections::BTreeSet<u64> = (1..=6).collect();
+            if !(dofs.is_empty() || dofs == all3 || dofs == all6) {
+                let loc = c.loc;
+                return Err(self.error(loc, format!("*KINEMATIC on DOFs {dofs:?}: only full rigid couplings (DOFs 1-3 or 1-6) are supported")));
+            }
+            c.kind = Some(flexbody_fem::CouplingKind::Rigid);
+        } else {
+            c.kind = Some(flexbody_fem::CouplingKind::Distributing);
+        }
+        Ok(())
+    }
+
     fn instance(&mut self, card: &Card) -> Result<(), InputError> {
         self.instances += 1;
         if self.instances > 1 || !card.data.is_empty() {

@@ -23,9 +23,10 @@
 //! | `*BEAM SECTION, ELSET=, MATERIAL=, SECTION=` | RECT `a, b`; CIRC `r`; PIPE `r, t` (outer radius, wall); BOX `a, b, t1..t4` (equal walls only); second line n1 = local y, default `(0, 0, -1)`; a along local 1 (y), b along local 2 (z) |
 //! | `*MASS, ELSET=` | mass (kg) of MASS elements |
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
+//! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces are skipped with a warning |
 //! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning |
-//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, `*SURFACE`, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped with a warning: they do not change K or M of the linear model |
-//! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*COUPLING`, `*KINEMATIC`, `*DISTRIBUTING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
+//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped with a warning: they do not change K or M of the linear model |
+//! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*KINEMATIC COUPLING`, `*DISTRIBUTING COUPLING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | skipped with a warning |
 //!
 //! Errors name the file and line that is wrong (an included file's own line)

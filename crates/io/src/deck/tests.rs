@@ -464,10 +464,7 @@ fn ignored_unknown_and_refused_keywords() {
     for (keyword, what) in [
         ("*EQUATION\n2\n3, 3, 1., 2, 3, -1.\n", "stiffness"),
         ("*RIGID BODY, NSET=ALL, REF NODE=1\n", "stiffness"),
-        (
-            "*COUPLING, REF NODE=1, SURFACE=S\n*KINEMATIC\n",
-            "stiffness",
-        ),
+        ("*DISTRIBUTING COUPLING, ELSET=E\n", "stiffness"),
         ("*TIE, NAME=T\nA, B\n", "stiffness"),
         (
             "*SHELL SECTION, ELSET=BEAM, MATERIAL=STEEL\n0.01\n",
