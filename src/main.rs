@@ -181,13 +181,25 @@ impl flexbody::linalg::progress::Progress for Spinner {
         use flexbody::linalg::progress::Stage;
         let message = match stage {
             Stage::Ordering { equations } => format!("ordering {equations} equations"),
-            Stage::Analyzed { factor_len, seconds } => format!("analysed: {factor_len} entries in L ({seconds:.1} s)"),
-            Stage::Factorization { shift } => format!("factorising K - sigma M, sigma = {shift:.3e}"),
+            Stage::Analyzed {
+                factor_len,
+                seconds,
+            } => format!("analysed: {factor_len} entries in L ({seconds:.1} s)"),
+            Stage::Factorization { shift } => {
+                format!("factorising K - sigma M, sigma = {shift:.3e}")
+            }
             Stage::Factorized { seconds, .. } => format!("factorised ({seconds:.1} s)"),
             Stage::Iteration {
-                step, converged, wanted, ..
+                step,
+                converged,
+                wanted,
+                ..
             } => format!("Lanczos step {step}: {converged} of {wanted} modes converged"),
-            Stage::SturmCheck { bound, count, found } => {
+            Stage::SturmCheck {
+                bound,
+                count,
+                found,
+            } => {
                 format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
             }
             Stage::Solves { columns } => format!("solving for {columns} static modes"),
@@ -202,7 +214,8 @@ impl flexbody::linalg::progress::Progress for Spinner {
 fn install_progress() {
     use std::io::IsTerminal;
     if std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
+        let bar =
+            indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
         bar.enable_steady_tick(std::time::Duration::from_millis(120));
         flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(Spinner(bar))));
     }

@@ -108,7 +108,12 @@ pub fn run_simulation(
         .ok_or_else(|| SimulationError::NoSimulation(file.path.display().to_string()))?;
     let sys = system(file, body);
     let response = simulate(&sys, &spec.excitation, &spec.settings, None)?;
-    histories(file, &sys, &response, &spec.record)
+    let mut h = histories(file, &sys, &response, &spec.record)?;
+    if !spec.record_nodes.is_empty() {
+        h.columns
+            .extend(stress_histories(file, body, &response, &spec.record_nodes)?);
+    }
+    Ok(h)
 }
 
 /// Body coordinates, connection forces and section forces of a run.
@@ -291,4 +296,46 @@ pub fn write_csv(
         }
         Ok(())
     })
+}
+
+/// Von Mises histories at solid nodes: for a reduced body from the modal
+/// stress matrices (`sigma = T_sigma q`, eq. 25 for solids), for the full
+/// model from the displacements.
+fn stress_histories(
+    file: &ModelFile,
+    body: FlexibleBody<'_>,
+    r: &TimeResponse,
+    nodes: &[u64],
+) -> Result<Vec<(String, Vec<f64>)>, SimulationError> {
+    let n = body.len();
+    let modal = match body {
+        FlexibleBody::Reduced(b) => Some(crate::recover::ModalStress::new(&file.model, b)?),
+        FlexibleBody::Full { .. } => None,
+    };
+    let mut columns: Vec<(String, Vec<f64>)> = nodes
+        .iter()
+        .map(|id| {
+            (
+                format!("node {id} von Mises (Pa)"),
+                Vec::with_capacity(r.states.len()),
+            )
+        })
+        .collect();
+    for s in &r.states {
+        let q = &s.x[..n];
+        let stresses = match &modal {
+            Some(m) => m.stresses(q),
+            None => crate::recover::nodal_stresses(&file.model, &body.displacements(q))?,
+        };
+        let vm = stresses.von_mises();
+        for (k, id) in nodes.iter().enumerate() {
+            let v = stresses
+                .nodes
+                .iter()
+                .position(|x| x == id)
+                .map_or(0.0, |i| vm[i]);
+            columns[k].1.push(v);
+        }
+    }
+    Ok(columns)
 }

@@ -80,6 +80,8 @@ pub struct SimulationSpec {
     pub excitation: Excitation,
     /// Beam elements whose section forces are recorded (eq. 25 with q'').
     pub record: Vec<usize>,
+    /// Solid nodes whose von Mises stress is recorded.
+    pub record_nodes: Vec<u64>,
 }
 
 /// The `[frf]` table: transfer functions over a band.
@@ -177,6 +179,8 @@ struct RawSimulation {
     profile: Option<String>,
     #[serde(default)]
     record: Vec<usize>,
+    #[serde(default)]
+    record_nodes: Vec<u64>,
 }
 
 fn default_alpha() -> f64 {
@@ -1239,6 +1243,17 @@ impl Context<'_> {
                 None => return Err(bad(format!("record: element {e} does not exist"))),
             }
         }
+        for n in &r.record_nodes {
+            let on_solid = model
+                .elements()
+                .iter()
+                .any(|e| matches!(e, Element::Solid(s) if s.nodes.contains(n)));
+            if !on_solid {
+                return Err(bad(format!(
+                    "record_nodes: node {n} is not a node of a solid element"
+                )));
+            }
+        }
         let mut forces = Vec::new();
         for f in &raw.force {
             let x = f.get_ref();
@@ -1304,6 +1319,7 @@ impl Context<'_> {
                 forces,
             },
             record: r.record.clone(),
+            record_nodes: r.record_nodes.clone(),
         })
     }
 
