@@ -441,7 +441,27 @@ fn run_reduce(
     let count = body.r().min(c.sub.len());
     let full_hz = red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
         .frequencies_hz();
-    export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
+    if format == export::Format::Mtx {
+        // The index carries the accuracy figures: the full model's
+        // frequencies and the relative error of each reduced one (the
+        // highest, those of static modes, are far off by nature).
+        let top = full_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
+        let mut meta = export::mtx::Metadata {
+            full_frequencies_hz: Some(full_hz.clone()),
+            ..Default::default()
+        };
+        for (k, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
+            if *f > 1e-6 * top {
+                meta.accuracy.insert(
+                    format!("relative frequency error, mode {:02}", k + 1),
+                    (r - f).abs() / f,
+                );
+            }
+        }
+        export::mtx::write_mtx(&body, Some(&c.sub), &meta, out)?;
+    } else {
+        export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
+    }
     if let Some(path) = vtu {
         let model = c.model.as_ref().with_context(|| {
             format!(
