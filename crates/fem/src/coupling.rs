@@ -515,10 +515,11 @@ mod tests {
         let two = bar(2, false).with_couplings(vec![
             c(CouplingKind::Rigid, vec![1, 2]),
             Coupling {
-                point: 999,
+                point: 12,
                 ..c(CouplingKind::Rigid, vec![2, 3])
             },
         ]);
-        assert!(two.is_err());
+        let e = two.unwrap_err().to_string();
+        assert!(e.contains("belongs to two couplings"), "{e}");
     }
 }

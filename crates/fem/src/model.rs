@@ -168,6 +168,7 @@ impl Model {
         }
         // Coupling constraints.
         let mut constraints = Constraints::new();
+        let mut owner: std::collections::HashMap<Dof, String> = std::collections::HashMap::new();
         {
             let coords = |n: NodeId| self.node_index.get(&n).map(|&i| self.nodes[i].coords);
             let kinds = |n: NodeId| -> Vec<DofKind> {
@@ -189,6 +190,7 @@ impl Model {
                             reason: format!("{dof} is both fixed and coupled"),
                         });
                     }
+                    owner.insert(dof, c.name.clone());
                     if constraints.insert(dof, terms).is_some() {
                         return Err(FemError::InvalidCoupling {
                             name: c.name.clone(),
@@ -200,7 +202,7 @@ impl Model {
             for (dof, terms) in &constraints {
                 if let Some((t, _)) = terms.iter().find(|(t, _)| constraints.contains_key(t)) {
                     return Err(FemError::InvalidCoupling {
-                        name: "-".into(),
+                        name: owner.get(dof).cloned().unwrap_or_default(),
                         reason: format!(
                             "{dof} depends on {t}, which is itself coupled (chained couplings)"
                         ),
