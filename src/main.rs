@@ -590,6 +590,22 @@ fn peak_memory() -> String {
         })
 }
 
+/// The full FE model (the reference) or the reduced body.
+fn flexible<'a>(
+    full: bool,
+    sub: &'a fem::Substructure,
+    body: &'a red::ReducedBody,
+) -> flexbody::mbs::FlexibleBody<'a> {
+    if full {
+        flexbody::mbs::FlexibleBody::Full {
+            dof_map: &sub.dof_map,
+            matrices: &sub.matrices,
+        }
+    } else {
+        flexbody::mbs::FlexibleBody::Reduced(body)
+    }
+}
+
 /// The model file, its substructure and the body a simulation uses.
 fn vehicle(model: &Path) -> Result<(io::ModelFile, fem::Substructure)> {
     let file = io::read_model_file(model)?;
@@ -604,14 +620,7 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
         .clone()
         .with_context(|| format!("{}: no [simulation] table", model.display()))?;
     let body = simulate::simulation_body(&file, &sub, &spec)?;
-    let flexible = if full {
-        flexbody::mbs::FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        }
-    } else {
-        flexbody::mbs::FlexibleBody::Reduced(&body)
-    };
+    let flexible = flexible(full, &sub, &body);
     let h = simulate::run_simulation(&file, flexible)?;
     std::fs::create_dir_all(out)
         .with_context(|| format!("{}: cannot create directory", out.display()))?;
@@ -706,14 +715,7 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
         )
     })?;
     let body = simulate::simulation_body(&file, &sub, &spec)?;
-    let flexible = if full {
-        flexbody::mbs::FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        }
-    } else {
-        flexbody::mbs::FlexibleBody::Reduced(&body)
-    };
+    let flexible = flexible(full, &sub, &body);
     let t = simulate::run_frf(&file, flexible)?;
     std::fs::create_dir_all(out)
         .with_context(|| format!("{}: cannot create directory", out.display()))?;
