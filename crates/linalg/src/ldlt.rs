@@ -227,7 +227,7 @@ impl Ldlt {
 }
 
 /// The pivots in elimination (permuted) order.
-fn permuted_pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
+pub(crate) fn permuted_pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
     let n = sym.nrows();
     let mut d = vec![0.0; n];
     match sym.raw() {

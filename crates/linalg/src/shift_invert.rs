@@ -17,8 +17,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, LdltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Side};
@@ -202,7 +201,7 @@ impl ShiftedPencil {
             zero: 0,
             positive: 0,
         };
-        for d in pivots(sym, &values) {
+        for d in crate::ldlt::permuted_pivots(sym, &values) {
             if d < 0.0 {
                 signs.negative += 1;
             } else if d > 0.0 {
@@ -244,35 +243,6 @@ impl ShiftedFactor {
             MemStack::new(&mut mem),
         );
     }
-}
-
-/// The pivots `D` in elimination order.
-fn pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
-    let n = sym.nrows();
-    let mut d = vec![0.0; n];
-    match sym.raw() {
-        SymbolicCholeskyRaw::Simplicial(s) => {
-            let factor = s.factor();
-            let col_ptr = factor.col_ptr();
-            let row_idx = factor.row_idx();
-            for (j, dj) in d.iter_mut().enumerate() {
-                if let Some(p) = (col_ptr[j]..col_ptr[j + 1]).find(|&p| row_idx[p] == j) {
-                    *dj = values[p];
-                }
-            }
-        }
-        SymbolicCholeskyRaw::Supernodal(s) => {
-            let factor = SupernodalLdltRef::new(s, values);
-            for sn in 0..s.n_supernodes() {
-                let node = factor.supernode(sn);
-                let block = node.val();
-                for k in 0..block.ncols() {
-                    d[node.start() + k] = block[(k, k)];
-                }
-            }
-        }
-    }
-    d
 }
 
 #[cfg(test)]
