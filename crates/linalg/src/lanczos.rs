@@ -38,6 +38,7 @@ use crate::eigen::EigenPairs;
 use crate::ordering::Ordering;
 use crate::progress::{Progress, Stage};
 use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
+use crate::sparse::symmetric_mul;
 use crate::{LinalgError, SparseMat};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, ColRef, Mat, MatMut, MatRef, Side};
@@ -121,7 +122,13 @@ pub struct LanczosStats {
     pub runs: usize,
     pub analysis_seconds: f64,
     pub factorization_seconds: f64,
+    /// Lanczos iterations (solves, products with `M`,
+    /// orthogonalisation, Rayleigh-Ritz), without the Sturm check.
     pub iteration_seconds: f64,
+    /// Of which the block solves with the shifted factor.
+    pub solve_seconds: f64,
+    /// Of which the products with `M`.
+    pub mass_seconds: f64,
     pub sturm_seconds: f64,
 }
 
@@ -173,29 +180,34 @@ pub fn lanczos(
     let sigma = params
         .shift
         .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE));
-    let t = Instant::now();
-    let factor = factorize(&pencil, sigma, progress)?;
-    stats.factorization_seconds = t.elapsed().as_secs_f64();
-    if factor.inertia().negative > 0 {
-        return Err(LinalgError::Dimension(format!(
-            "the Lanczos shift {sigma:e} lies above {} eigenvalues; it must lie below the spectrum",
-            factor.inertia().negative
-        )));
-    }
-
+    let mut op = Operator {
+        pencil: &pencil,
+        sigma,
+        factor: None,
+        spare: Vec::new(),
+        m,
+        progress,
+        solves: 0,
+        block_solves: 0,
+        solve_seconds: 0.0,
+        mass_seconds: 0.0,
+        factorization_seconds: 0.0,
+        sturm_seconds: 0.0,
+    };
     // For a band, the Sturm count at its upper bound is the number wanted.
     let mut sturm: Option<(f64, usize)> = None;
     let nev = match wanted {
         Wanted::Lowest(count) => count,
         Wanted::Below(bound) => {
-            let t = Instant::now();
-            let count = sturm_count(&pencil, bound, progress)?;
-            stats.sturm_seconds += t.elapsed().as_secs_f64();
+            let count = op.sturm_count(bound)?;
             sturm = Some((bound, count));
             count
         }
     };
+    op.factorize()?;
     if nev == 0 {
+        stats.factorization_seconds = op.factorization_seconds;
+        stats.sturm_seconds = op.sturm_seconds;
         return Ok(SparseEigen {
             pairs: EigenPairs {
                 values: vec![],
@@ -212,13 +224,8 @@ pub fn lanczos(
             stats,
         });
     }
+    let first_factorization = op.factorization_seconds;
     let t = Instant::now();
-    let mut op = Operator {
-        factor: &factor,
-        m,
-        solves: 0,
-        block_solves: 0,
-    };
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     let mut locked = Locked {
         x: Mat::zeros(n, 0),
@@ -242,10 +249,7 @@ pub fn lanczos(
                 let v = lambdas(&locked);
                 let top = v[nev.min(v.len()) - 1];
                 let bound = top + 1e-4 * (top - sigma).abs();
-                let t = Instant::now();
-                let count = sturm_count(&pencil, bound, progress)?;
-                stats.sturm_seconds += t.elapsed().as_secs_f64();
-                (bound, count)
+                (bound, op.sturm_count(bound)?)
             }
         };
         let below = |l: &Locked| lambdas(l).iter().filter(|&&x| x < bound).count();
@@ -282,7 +286,14 @@ pub fn lanczos(
     }
     stats.solves = op.solves;
     stats.block_solves = op.block_solves;
-    stats.iteration_seconds = t.elapsed().as_secs_f64() - stats.sturm_seconds;
+    stats.solve_seconds = op.solve_seconds;
+    stats.mass_seconds = op.mass_seconds;
+    stats.factorization_seconds = op.factorization_seconds;
+    stats.sturm_seconds = op.sturm_seconds;
+    stats.iteration_seconds = t.elapsed().as_secs_f64()
+        - stats.sturm_seconds
+        - (stats.factorization_seconds - first_factorization);
+    drop(op);
 
     // Ascending lambda, the wanted ones.
     let mut order: Vec<usize> = (0..locked.theta.len()).collect();
@@ -321,7 +332,7 @@ fn rayleigh_quotients(
     mx: MatRef<'_, f64>,
     order: &[usize],
 ) -> Vec<f64> {
-    let kx = k * x;
+    let kx = symmetric_mul(k, x);
     (0..x.ncols())
         .map(|j| dot(x.col(j), kx.col(j)) / dot(x.col(j), mx.col(order[j])))
         .collect()
@@ -337,8 +348,8 @@ pub fn residuals(
     k_diag: &[f64],
 ) -> Vec<f64> {
     let k_norm = k_diag.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let kx = k * vectors;
-    let mx = m * vectors;
+    let kx = symmetric_mul(k, vectors);
+    let mx = symmetric_mul(m, vectors);
     (0..values.len())
         .map(|j| {
             let r = kx.col(j) - mx.col(j) * faer::Scale(values[j]);
@@ -357,57 +368,107 @@ pub fn residuals(
         .collect()
 }
 
-fn factorize(
-    pencil: &ShiftedPencil,
-    shift: f64,
-    progress: &dyn Progress,
-) -> Result<ShiftedFactor, LinalgError> {
-    let t = Instant::now();
-    progress.report(&Stage::Factorization { shift });
-    let f = pencil.factorize(shift)?;
-    progress.report(&Stage::Factorized {
-        shift,
-        seconds: t.elapsed().as_secs_f64(),
-    });
-    Ok(f)
-}
-
-/// Eigenvalues below `bound` by the inertia of `K - bound M`; a shift on an
-/// eigenvalue (zero pivot) is moved up by a relative 1e-8.
-fn sturm_count(
-    pencil: &ShiftedPencil,
-    bound: f64,
-    progress: &dyn Progress,
-) -> Result<usize, LinalgError> {
-    let mut s = bound;
-    for _ in 0..3 {
-        match factorize(pencil, s, progress) {
-            Ok(f) => return Ok(f.inertia().negative + f.inertia().zero),
-            Err(LinalgError::Singular { .. }) => s += 1e-8 * s.abs().max(f64::MIN_POSITIVE),
-            Err(e) => return Err(e),
-        }
-    }
-    Err(LinalgError::Faer(format!(
-        "no Sturm count near {bound:e}: K - s M stays singular"
-    )))
-}
-
-/// `OP = (K - sigma M)^-1 M`, counting solves.
-struct Operator<'a> {
-    factor: &'a ShiftedFactor,
+/// `OP = (K - sigma M)^-1 M` on the factor of `K - sigma M`, which it
+/// factorises when first needed and again after a Sturm check has borrowed
+/// its storage (one factor in memory at a time); counts the solves and times
+/// the solves, the products with `M` and the factorisations.
+struct Operator<'p, 'a> {
+    pencil: &'p ShiftedPencil<'a>,
+    sigma: f64,
+    factor: Option<ShiftedFactor>,
+    /// Storage of a factor no longer held, reused by the next one.
+    spare: Vec<f64>,
     m: &'a SparseMat,
+    progress: &'p dyn Progress,
     solves: usize,
     block_solves: usize,
+    solve_seconds: f64,
+    mass_seconds: f64,
+    factorization_seconds: f64,
+    sturm_seconds: f64,
 }
 
-impl Operator<'_> {
+impl Operator<'_, '_> {
+    /// Factorises `K - sigma M` (if not held), checking that `sigma` lies
+    /// below the spectrum.
+    fn factorize(&mut self) -> Result<&ShiftedFactor, LinalgError> {
+        if self.factor.is_none() {
+            let t = Instant::now();
+            let sigma = self.sigma;
+            self.progress.report(&Stage::Factorization { shift: sigma });
+            let f = self
+                .pencil
+                .refactorize(sigma, std::mem::take(&mut self.spare))?;
+            let seconds = t.elapsed().as_secs_f64();
+            self.factorization_seconds += seconds;
+            self.progress.report(&Stage::Factorized {
+                shift: sigma,
+                seconds,
+            });
+            if f.inertia().negative > 0 {
+                return Err(LinalgError::Dimension(format!(
+                    "the Lanczos shift {sigma:e} lies above {} eigenvalues; it must lie below the spectrum",
+                    f.inertia().negative
+                )));
+            }
+            self.factor = Some(f);
+        }
+        Ok(self.factor.as_ref().expect("factorised above"))
+    }
+
+    /// Eigenvalues below `bound` by the inertia of `K - bound M`, in the
+    /// storage of the operator's factor; a shift on an eigenvalue (zero
+    /// pivot) is moved up by a relative 1e-8.
+    fn sturm_count(&mut self, bound: f64) -> Result<usize, LinalgError> {
+        let t = Instant::now();
+        let mut storage = match self.factor.take() {
+            Some(f) => f.into_storage(),
+            None => std::mem::take(&mut self.spare),
+        };
+        let mut s = bound;
+        for _ in 0..3 {
+            self.progress.report(&Stage::Factorization { shift: s });
+            match self.pencil.refactorize(s, storage) {
+                Ok(f) => {
+                    self.progress.report(&Stage::Factorized {
+                        shift: s,
+                        seconds: t.elapsed().as_secs_f64(),
+                    });
+                    let count = f.inertia().negative + f.inertia().zero;
+                    self.spare = f.into_storage();
+                    self.sturm_seconds += t.elapsed().as_secs_f64();
+                    return Ok(count);
+                }
+                Err(LinalgError::Singular { .. }) => {
+                    storage = Vec::new();
+                    s += 1e-8 * s.abs().max(f64::MIN_POSITIVE);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        Err(LinalgError::Faer(format!(
+            "no Sturm count near {bound:e}: K - s M stays singular"
+        )))
+    }
+
     /// `(K - sigma M)^-1 Y` for `Y = M V` given.
-    fn solve(&mut self, mv: MatRef<'_, f64>) -> Mat<f64> {
+    fn solve(&mut self, mv: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
         let mut x = mv.to_owned();
-        self.factor.solve_in_place(x.as_mut());
+        let factor = self.factorize()?;
+        let t = Instant::now();
+        factor.solve_in_place(x.as_mut());
         self.solves += x.ncols();
         self.block_solves += 1;
-        x
+        self.solve_seconds += t.elapsed().as_secs_f64();
+        Ok(x)
+    }
+
+    /// `M X`.
+    fn mass(&mut self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let t = Instant::now();
+        let mx = symmetric_mul(self.m, x);
+        self.mass_seconds += t.elapsed().as_secs_f64();
+        mx
     }
 }
 
@@ -479,6 +540,79 @@ fn orthonormalize_block(
     m: &SparseMat,
     rng: &mut Rng,
 ) -> Mat<f64> {
+    cholesky_qr2(w, mw).unwrap_or_else(|| gram_schmidt_block(w, mw, before, others, m, rng))
+}
+
+/// Cholesky QR twice in the `M` inner product: `G = W^T M W = R^T R`,
+/// `W <- W R^-1`, once more for orthogonality to round-off; returns `B`
+/// with `W_in = Q B`. Two small Gram matrices and four products with an
+/// `n x b` block, all BLAS-3 and parallel, where Gram-Schmidt column by
+/// column costs `b^2` passes over `n`. `None` (nothing changed) when `W` is
+/// too ill-conditioned for it (the ratio of the extreme diagonal entries
+/// of `R` below 1e-6, the point where `G` has lost half the digits).
+fn cholesky_qr2(w: &mut Mat<f64>, mw: &mut Mat<f64>) -> Option<Mat<f64>> {
+    let b = w.ncols();
+    let par = faer::get_global_parallelism();
+    let mut total = Mat::<f64>::identity(b, b);
+    let mut q = w.clone();
+    let mut mq = mw.clone();
+    for _pass in 0..2 {
+        let mut g = q.transpose() * &mq;
+        crate::sparse::symmetrize(&mut g);
+        let l = g.llt(Side::Lower).ok()?.L().to_owned();
+        let diag: Vec<f64> = (0..b).map(|i| l[(i, i)]).collect();
+        let (lo, hi) = diag.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &d| {
+            (lo.min(d), hi.max(d))
+        });
+        let conditioned = lo > 1e-6 * hi && hi.is_finite();
+        if !conditioned {
+            return None;
+        }
+        // R = L^T; W R^-1 = W L^-T.
+        let mut r_inv = Mat::<f64>::identity(b, b);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+            l.as_ref(),
+            r_inv.as_mut(),
+            par,
+        );
+        let r_inv = r_inv.transpose().to_owned();
+        let mut next = Mat::<f64>::zeros(q.nrows(), b);
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            q.as_ref(),
+            r_inv.as_ref(),
+            1.0,
+            par,
+        );
+        q = next;
+        let mut next = Mat::<f64>::zeros(q.nrows(), b);
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            mq.as_ref(),
+            r_inv.as_ref(),
+            1.0,
+            par,
+        );
+        mq = next;
+        total = l.transpose() * &total;
+    }
+    *w = q;
+    *mw = mq;
+    Some(total)
+}
+
+/// Gram-Schmidt column by column, twice, with breakdown handling (the
+/// fallback of [`cholesky_qr2`]).
+fn gram_schmidt_block(
+    w: &mut Mat<f64>,
+    mw: &mut Mat<f64>,
+    before: &[f64],
+    others: &[(MatRef<'_, f64>, MatRef<'_, f64>)],
+    m: &SparseMat,
+    rng: &mut Rng,
+) -> Mat<f64> {
     let (n, b) = (w.nrows(), w.ncols());
     let mut r = Mat::<f64>::zeros(b, b);
     for i in 0..b {
@@ -503,7 +637,7 @@ fn orthonormalize_block(
         }
         // Breakdown: an invariant subspace; continue with a fresh direction.
         let mut z = Mat::from_fn(n, 1, |_, _| rng.next());
-        let mut mz = m * &z;
+        let mut mz = symmetric_mul(m, z.as_ref());
         for _pass in 0..2 {
             for (x, mx) in others {
                 project_out(z.as_mut(), mz.as_mut(), *x, *mx);
@@ -532,7 +666,7 @@ fn orthonormalize_block(
 /// `OP` deflated by `locked`; returns every converged Ritz pair (at least
 /// the `nev` wanted ones).
 fn krylov_schur(
-    op: &mut Operator<'_>,
+    op: &mut Operator<'_, '_>,
     locked: &Locked,
     nev: usize,
     params: &LanczosParams,
@@ -568,9 +702,9 @@ fn krylov_schur(
     // Start block: OP applied to random vectors (in the range of OP).
     {
         let z = Mat::from_fn(n, b, |_, _| rng.next());
-        let mz = m * &z;
-        let mut w = op.solve(mz.as_ref());
-        let mut mw = m * &w;
+        let mz = symmetric_mul(m, z.as_ref());
+        let mut w = op.solve(mz.as_ref())?;
+        let mut mw = op.mass(w.as_ref());
         let before: Vec<f64> = (0..b)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
             .collect();
@@ -593,8 +727,8 @@ fn krylov_schur(
         }
         // Expand the pending block [e, c).
         let blk = c - e;
-        let mut w = op.solve(mv.subcols(e, blk));
-        let mut mw = m * &w;
+        let mut w = op.solve(mv.subcols(e, blk))?;
+        let mut mw = op.mass(w.as_ref());
         let before: Vec<f64> = (0..blk)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
             .collect();

@@ -7,14 +7,18 @@
 //! in the original row order so that a vanishing pivot names the DOF where a
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
+use crate::ordering::{nested_dissection, Ordering};
+use crate::supernodal::{permute_rows, unpermute_rows, SolvePlan};
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, LdltRef, SymbolicCholesky,
     SymbolicCholeskyRaw, SymmetricOrdering,
 };
-use faer::{Conj, Mat, MatRef, Side};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, MatMut, MatRef, Side};
 use std::sync::Arc;
 
 /// Tuning of the numeric factorisation.
@@ -36,25 +40,61 @@ impl Default for LdltParams {
 }
 
 /// Symbolic analysis of a symmetric sparsity pattern (ordering, elimination
-/// tree), reusable for every matrix with that pattern.
+/// tree, supernodes, the plan of parallel solves), reusable for every
+/// matrix with that pattern.
 #[derive(Clone, Debug)]
 pub struct SymbolicLdlt {
     inner: Arc<SymbolicCholesky<usize>>,
+    plan: Option<Arc<SolvePlan>>,
+    ordering: Ordering,
 }
 
 impl SymbolicLdlt {
-    /// Analyses the pattern of the symmetric matrix `a` (both triangles
-    /// stored; the lower one is read), with an AMD fill-reducing ordering.
+    /// Analyses the pattern of the symmetric matrix `a` with
+    /// [`Ordering::Auto`].
     pub fn analyze(a: &SparseMat) -> Result<Self, LinalgError> {
-        let inner = factorize_symbolic_cholesky(
-            a.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+        Self::analyze_pattern(a.symbolic(), Ordering::Auto)
+    }
+
+    /// Analyses a symmetric pattern of which the lower triangle is read
+    /// (both triangles or only the lower one stored), with `ordering`.
+    pub fn analyze_pattern(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
+        let n = pattern.nrows();
+        let ordering = ordering.resolve(n);
+        let fail = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
+        let inner = match ordering {
+            Ordering::NestedDissection => {
+                let (fwd, inv) = nested_dissection(pattern)?;
+                let perm = PermRef::new_checked(&fwd, &inv, n);
+                factorize_symbolic_cholesky(
+                    pattern,
+                    Side::Lower,
+                    SymmetricOrdering::Custom(perm),
+                    Default::default(),
+                )
+                .map_err(fail)?
+            }
+            _ => factorize_symbolic_cholesky(
+                pattern,
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                Default::default(),
+            )
+            .map_err(fail)?,
+        };
+        let plan = match inner.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                Some(Arc::new(SolvePlan::new(s, rayon::current_num_threads())))
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => None,
+        };
         Ok(Self {
             inner: Arc::new(inner),
+            plan,
+            ordering,
         })
     }
 
@@ -66,6 +106,87 @@ impl SymbolicLdlt {
     /// Number of stored entries of the factor `L`.
     pub fn factor_len(&self) -> usize {
         self.inner.len_val()
+    }
+
+    /// The ordering used (with [`Ordering::Auto`] resolved).
+    pub fn ordering(&self) -> Ordering {
+        self.ordering
+    }
+
+    /// faer's symbolic factor.
+    #[cfg(test)]
+    pub(crate) fn inner(&self) -> &SymbolicCholesky<usize> {
+        &self.inner
+    }
+
+    /// `forward[new] = old` of the fill-reducing permutation.
+    pub(crate) fn forward(&self) -> Vec<usize> {
+        match self.inner.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..self.dim()).collect(),
+        }
+    }
+
+    /// The numeric `LDL^T` of `a` (pattern analysed here; its lower
+    /// triangle is read) into `values`, reusing that buffer's allocation.
+    /// `Err(i)`: the pivot in elimination position `i` vanished.
+    pub(crate) fn factorize_into(
+        &self,
+        a: SparseColMatRef<'_, usize, f64>,
+        values: &mut Vec<f64>,
+    ) -> Result<(), LinalgError> {
+        let sym = &*self.inner;
+        values.clear();
+        values.resize(sym.len_val(), 0.0);
+        let par = faer::get_global_parallelism();
+        let mut mem =
+            MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
+                .map_err(|_| LinalgError::Faer("out of memory in LDL^T".into()))?;
+        let result = sym.factorize_numeric_ldlt(
+            values,
+            a,
+            Side::Lower,
+            LdltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+        if let Err(faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { index }) = result {
+            // faer reports the pivot 1-based, in elimination order.
+            return Err(LinalgError::Singular {
+                index: index.saturating_sub(1).min(self.dim().saturating_sub(1)),
+                pivot: 0.0,
+                diagonal: 0.0,
+            });
+        }
+        Ok(())
+    }
+
+    /// Solves `L D L^T X = B` in place with the factor `values`: in parallel
+    /// over the elimination tree for a supernodal factor
+    /// ([`crate::supernodal`]), with faer's solve otherwise.
+    pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
+        let sym = &*self.inner;
+        if let (Some(plan), SymbolicCholeskyRaw::Supernodal(s)) = (&self.plan, sym.raw()) {
+            let forward = self.forward();
+            let mut y = permute_rows(x.as_ref(), &forward);
+            plan.solve_in_place(SupernodalLdltRef::new(s, values), y.as_mut());
+            unpermute_rows(y.as_ref(), &forward, x);
+            return;
+        }
+        let par = faer::get_global_parallelism();
+        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
+        LdltRef::new(sym, values).solve_in_place_with_conj(
+            Conj::No,
+            x,
+            par,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// The pivots `D` in elimination order.
+    pub(crate) fn permuted_pivots(&self, values: &[f64]) -> Vec<f64> {
+        permuted_pivots(&self.inner, values)
     }
 }
 
@@ -110,36 +231,22 @@ impl Ldlt {
                 symbolic.dim()
             )));
         }
-        let sym = &*symbolic.inner;
-        let mut values = vec![0.0; sym.len_val()];
-        let par = faer::get_global_parallelism();
-        let mut mem =
-            MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
-                .map_err(|_| LinalgError::Faer("out of memory in LDL^T".into()))?;
         let diag = crate::sparse::diagonal(a);
-        let fwd: Vec<usize> = match sym.perm() {
-            Some(p) => p.arrays().0.to_vec(),
-            None => (0..n).collect(),
-        };
-        let result = sym.factorize_numeric_ldlt(
-            &mut values,
-            a.as_ref(),
-            Side::Lower,
-            LdltRegularization::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        );
-        if let Err(faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { index }) = result {
-            // faer reports the pivot 1-based.
-            let row = fwd[index.saturating_sub(1).min(n.saturating_sub(1))];
-            return Err(LinalgError::Singular {
-                index: row,
-                pivot: 0.0,
-                diagonal: diag[row],
-            });
+        let fwd = symbolic.forward();
+        let mut values = Vec::new();
+        match symbolic.factorize_into(a.as_ref(), &mut values) {
+            Err(LinalgError::Singular { index, .. }) => {
+                let row = fwd[index];
+                return Err(LinalgError::Singular {
+                    index: row,
+                    pivot: 0.0,
+                    diagonal: diag[row],
+                });
+            }
+            Err(e) => return Err(e),
+            Ok(()) => {}
         }
-        let permuted = permuted_pivots(sym, &values);
+        let permuted = symbolic.permuted_pivots(&values);
         let mut pivots = vec![0.0; n];
         for (i, d) in permuted.iter().enumerate() {
             pivots[fwd[i]] = *d;
@@ -214,20 +321,12 @@ impl Ldlt {
             self.dim(),
             "right-hand side has the wrong length"
         );
-        let sym = &*self.symbolic.inner;
-        let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
-        LdltRef::new(sym, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            x.as_mut(),
-            par,
-            MemStack::new(&mut mem),
-        );
+        self.symbolic.solve_in_place(&self.values, x.as_mut());
     }
 }
 
 /// The pivots in elimination (permuted) order.
-pub(crate) fn permuted_pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
+fn permuted_pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
     let n = sym.nrows();
     let mut d = vec![0.0; n];
     match sym.raw() {

@@ -7,7 +7,8 @@
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
 //!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
-//!   fill-reducing [`ordering`], reporting to a [`progress`] hook;
+//!   fill-reducing [`ordering`], reporting to a [`progress`] hook, with
+//!   block solves in parallel over the elimination tree ([`supernodal`]);
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
 
@@ -19,6 +20,7 @@ pub mod orthonormal;
 pub mod progress;
 pub mod shift_invert;
 pub mod sparse;
+pub mod supernodal;
 
 pub use faer::sparse::SparseColMat;
 pub use faer::{Mat, MatRef};

@@ -13,7 +13,8 @@
 //! This makes the graph 3-6 times smaller and the ordering that much faster,
 //! with the same fill.
 
-use crate::{LinalgError, SparseMat};
+use crate::LinalgError;
+use faer::sparse::SymbolicSparseColMatRef;
 
 /// Which fill-reducing ordering the symbolic analysis uses.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -42,92 +43,87 @@ impl Ordering {
     }
 }
 
-/// A nested-dissection permutation of the symmetric matrix `a` (both
-/// triangles of its pattern are read), as `(forward, inverse)`:
-/// `forward[new] = old`, `inverse[old] = new`.
-pub fn nested_dissection(a: &SparseMat) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
-    let n = a.nrows();
+/// A nested-dissection permutation of a symmetric matrix from its pattern,
+/// as `(forward, inverse)`: `forward[new] = old`, `inverse[old] = new`.
+/// Only the lower triangle (rows `>=` the column) is read, so the pattern
+/// may hold both triangles or just that one.
+pub fn nested_dissection(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = pattern.nrows();
     if n == 0 {
         return Ok((vec![], vec![]));
     }
-    let col_ptr = a.col_ptr();
-    let row_idx = a.row_idx();
-    let pattern = |j: usize| -> Vec<usize> {
-        let mut rows = row_idx[col_ptr[j]..col_ptr[j + 1]].to_vec();
-        rows.sort_unstable();
-        rows.dedup();
-        rows
-    };
-    // Supervariables: runs of consecutive columns with equal patterns.
+    let lower = |j: usize| pattern.row_idx_of_col(j).filter(move |&i| i > j);
+    // Supervariables: runs of consecutive columns with equal closed
+    // neighbourhoods (adjacency plus itself), recognised by the degree and
+    // a 64-bit hash of the neighbourhood. A collision would merge two
+    // columns wrongly; that costs fill, never correctness.
+    let mut hash: Vec<u64> = (0..n).map(mix).collect();
+    let mut degree = vec![0usize; n];
+    for j in 0..n {
+        for i in lower(j) {
+            hash[j] = hash[j].wrapping_add(mix(i));
+            hash[i] = hash[i].wrapping_add(mix(j));
+            degree[i] += 1;
+            degree[j] += 1;
+        }
+    }
     let mut first_of = Vec::with_capacity(n / 3 + 1); // first column of each vertex
     let mut vertex_of = vec![0usize; n];
-    let mut previous: Option<Vec<usize>> = None;
-    for (j, vertex) in vertex_of.iter_mut().enumerate() {
-        let p = pattern(j);
-        let same = previous.as_ref().is_some_and(|q| *q == p);
-        if !same {
+    for j in 0..n {
+        if j == 0 || hash[j] != hash[j - 1] || degree[j] != degree[j - 1] {
             first_of.push(j);
         }
-        *vertex = first_of.len() - 1;
-        previous = Some(p);
+        vertex_of[j] = first_of.len() - 1;
     }
+    drop(hash);
+    drop(degree);
     let nv = first_of.len();
     first_of.push(n);
-    // The compressed graph, without self loops.
-    let mut xadj: Vec<i32> = Vec::with_capacity(nv + 1);
-    let mut adjncy: Vec<i32> = Vec::new();
-    xadj.push(0);
+    if nv > i32::MAX as usize {
+        return Err(LinalgError::Faer(
+            "graph too large for 32-bit METIS indices".into(),
+        ));
+    }
+    // Edges of the compressed graph, both directions: from the first column
+    // of each vertex, its lower neighbours (the earlier vertices' columns
+    // hold the rest).
+    let mut edges: Vec<u64> = Vec::new();
     let mut mark = vec![usize::MAX; nv];
     for v in 0..nv {
-        let j = first_of[v];
         mark[v] = v;
-        for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+        for i in lower(first_of[v]) {
             let w = vertex_of[i];
             if mark[w] != v {
                 mark[w] = v;
-                adjncy.push(w as i32);
+                edges.push(((v as u64) << 32) | w as u64);
+                edges.push(((w as u64) << 32) | v as u64);
             }
         }
-        if adjncy.len() > i32::MAX as usize {
-            return Err(LinalgError::Faer(
-                "graph too large for 32-bit METIS indices".into(),
-            ));
-        }
-        xadj.push(adjncy.len() as i32);
     }
-    // The graph must be symmetric for METIS; a structurally unsymmetric
-    // input (only one triangle stored) is symmetrised here.
-    let symmetric = {
-        let mut count = vec![0usize; nv];
-        for w in &adjncy {
-            count[*w as usize] += 1;
-        }
-        (0..nv).all(|v| count[v] == (xadj[v + 1] - xadj[v]) as usize)
-    };
-    if !symmetric {
-        let mut lists: Vec<Vec<i32>> = (0..nv)
-            .map(|v| adjncy[xadj[v] as usize..xadj[v + 1] as usize].to_vec())
-            .collect();
-        for v in 0..nv {
-            for p in xadj[v]..xadj[v + 1] {
-                let w = adjncy[p as usize] as usize;
-                lists[w].push(v as i32);
-            }
-        }
-        xadj.clear();
-        adjncy.clear();
-        xadj.push(0);
-        for mut l in lists {
-            l.sort_unstable();
-            l.dedup();
-            adjncy.extend(l);
-            xadj.push(adjncy.len() as i32);
-        }
+    drop(mark);
+    edges.sort_unstable();
+    edges.dedup();
+    if edges.len() > i32::MAX as usize {
+        return Err(LinalgError::Faer(
+            "graph too large for 32-bit METIS indices".into(),
+        ));
     }
+    let mut xadj: Vec<i32> = vec![0; nv + 1];
+    for e in &edges {
+        xadj[(e >> 32) as usize + 1] += 1;
+    }
+    for v in 0..nv {
+        xadj[v + 1] += xadj[v];
+    }
+    let mut adjncy: Vec<i32> = edges.iter().map(|e| (e & 0xffff_ffff) as i32).collect();
+    drop(edges);
     let vertex_order = if nv < 3 || adjncy.is_empty() {
         (0..nv).collect::<Vec<_>>()
     } else {
-        metis_node_nd(nv, &mut xadj, &mut adjncy)?
+        let order = metis_node_nd(nv, &mut xadj, &mut adjncy)?;
+        postorder(&xadj, &adjncy, &order)
     };
     let mut forward = Vec::with_capacity(n);
     for v in vertex_order {
@@ -138,6 +134,70 @@ pub fn nested_dissection(a: &SparseMat) -> Result<(Vec<usize>, Vec<usize>), Lina
         inverse[old] = new;
     }
     Ok((forward, inverse))
+}
+
+/// A 64-bit mix of an index (splitmix64's finaliser).
+fn mix(i: usize) -> u64 {
+    let mut z = (i as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// Reorders `order` (`order[new] = old` vertex) into a postorder of its
+/// elimination tree, which has the same fill: every subtree becomes a
+/// contiguous range, so the supernodal solve can hand whole subtrees to
+/// threads ([`crate::supernodal`]). METIS's dissection order is one at the
+/// top, but its minimum-degree leaves interleave subtrees.
+fn postorder(xadj: &[i32], adjncy: &[i32], order: &[usize]) -> Vec<usize> {
+    let nv = order.len();
+    let mut position = vec![0usize; nv];
+    for (new, &old) in order.iter().enumerate() {
+        position[old] = new;
+    }
+    // Liu's elimination tree with path compression, in the new numbering.
+    let none = usize::MAX;
+    let mut parent = vec![none; nv];
+    let mut ancestor = vec![none; nv];
+    for (v, &old) in order.iter().enumerate() {
+        for &w in &adjncy[xadj[old] as usize..xadj[old + 1] as usize] {
+            let mut i = position[w as usize];
+            while i < v {
+                let next = ancestor[i];
+                ancestor[i] = v;
+                if next == none {
+                    parent[i] = v;
+                    break;
+                }
+                i = next;
+            }
+        }
+    }
+    // Children lists (ascending), then an iterative depth-first walk.
+    let mut head = vec![none; nv];
+    let mut next = vec![none; nv];
+    for v in (0..nv).rev() {
+        if parent[v] != none {
+            next[v] = head[parent[v]];
+            head[parent[v]] = v;
+        }
+    }
+    let mut post = Vec::with_capacity(nv);
+    let mut stack = Vec::new();
+    for root in (0..nv).filter(|&v| parent[v] == none) {
+        stack.push(root);
+        while let Some(&v) = stack.last() {
+            let child = head[v];
+            if child == none {
+                stack.pop();
+                post.push(order[v]);
+            } else {
+                head[v] = next[child];
+                stack.push(child);
+            }
+        }
+    }
+    post
 }
 
 /// METIS nested dissection of a graph in CSR form; returns `perm[new] = old`.
@@ -181,7 +241,7 @@ mod tests {
     use faer::sparse::Triplet;
 
     /// 3 DOFs per node on an `nx x ny` grid of nodes, coupling neighbours.
-    fn grid(nx: usize, ny: usize) -> SparseMat {
+    fn grid(nx: usize, ny: usize) -> crate::SparseMat {
         let node = |i: usize, j: usize| i + nx * j;
         let mut t = Vec::new();
         for j in 0..ny {
@@ -214,7 +274,7 @@ mod tests {
     #[test]
     fn nested_dissection_is_a_permutation_keeping_node_blocks() {
         let a = grid(20, 15);
-        let (fwd, inv) = nested_dissection(&a).unwrap();
+        let (fwd, inv) = nested_dissection(a.symbolic()).unwrap();
         let n = a.nrows();
         let mut seen = vec![false; n];
         for &o in &fwd {
@@ -224,6 +284,19 @@ mod tests {
         for (new, &old) in fwd.iter().enumerate() {
             assert_eq!(inv[old], new);
         }
+        // The lower triangle alone gives the same order.
+        let n_lower: Vec<_> = (0..n)
+            .flat_map(|j| {
+                let r = a.as_ref();
+                r.row_idx_of_col(j)
+                    .zip(r.val_of_col(j))
+                    .filter(move |(i, _)| *i >= j)
+                    .map(move |(i, v)| Triplet::new(i, j, *v))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let lower = from_triplets(n, n, &n_lower).unwrap();
+        assert_eq!(nested_dissection(lower.symbolic()).unwrap().0, fwd);
         // Node blocks stay together and in order.
         for c in fwd.chunks(3) {
             assert_eq!(c[0] % 3, 0);

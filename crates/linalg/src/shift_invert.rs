@@ -3,39 +3,30 @@
 //! eigen solvers, and the Sturm count (inertia) at any shift.
 //!
 //! The lower triangle of the union pattern of `K` and `M` is built once; the
-//! values of `A(sigma)` are filled in per shift without any triplet list (at
-//! 3e5 DOFs, `K` alone has 2.4e7 entries). The symbolic analysis (ordering,
-//! elimination tree, supernodes) is computed once from that pattern and
-//! shared by every shift behind an [`Arc`]. The numeric factorisation is
-//! faer's supernodal `LDL^T` without pivoting: `A(sigma)` is positive definite
+//! values of `A(sigma)` are merged from `K` and `M` per shift, without any
+//! triplet list or stored copy of either (at 3e5 DOFs, `K` alone has 1.6e7
+//! entries). The symbolic analysis ([`SymbolicLdlt`]: ordering, elimination
+//! tree, supernodes, the plan of parallel solves) is computed once from that
+//! pattern and shared by every shift. The numeric factorisation is faer's
+//! supernodal `LDL^T` without pivoting: `A(sigma)` is positive definite
 //! below the spectrum and, above it, stable enough for the inertia that a
 //! Sturm check needs (the practice of Lanczos codes in FE programs).
 
-use crate::ordering::{nested_dissection, Ordering};
+use crate::ldlt::SymbolicLdlt;
+use crate::ordering::Ordering;
 use crate::{LinalgError, SparseMat};
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
-use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
-};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Side};
-use std::sync::Arc;
+use faer::MatMut;
 
 /// The pencil `(K, M)` with the lower-triangular union pattern of both and
-/// the symbolic analysis of `K - sigma M`.
+/// its symbolic analysis.
 #[derive(Clone, Debug)]
-pub struct ShiftedPencil {
-    n: usize,
+pub struct ShiftedPencil<'a> {
+    k: &'a SparseMat,
+    m: &'a SparseMat,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    /// Positions in the union pattern of the lower entries of K and M, as
-    /// (position, value) pairs.
-    k_entries: Vec<(usize, f64)>,
-    m_entries: Vec<(usize, f64)>,
-    symbolic: Arc<SymbolicCholesky<usize>>,
-    ordering: Ordering,
+    symbolic: SymbolicLdlt,
 }
 
 /// Counts of negative, zero and positive pivots of `K - sigma M`; the
@@ -50,16 +41,20 @@ pub struct PivotSigns {
 /// The numeric `LDL^T` of `K - sigma M`.
 #[derive(Clone, Debug)]
 pub struct ShiftedFactor {
-    symbolic: Arc<SymbolicCholesky<usize>>,
+    symbolic: SymbolicLdlt,
     values: Vec<f64>,
     shift: f64,
     signs: PivotSigns,
 }
 
-impl ShiftedPencil {
+impl<'a> ShiftedPencil<'a> {
     /// Builds the union pattern of the symmetric `k` and `m` and analyses it
     /// with `ordering` (the time goes into the ordering for large models).
-    pub fn analyze(k: &SparseMat, m: &SparseMat, ordering: Ordering) -> Result<Self, LinalgError> {
+    pub fn analyze(
+        k: &'a SparseMat,
+        m: &'a SparseMat,
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
         let n = k.nrows();
         if k.ncols() != n || m.nrows() != n || m.ncols() != n {
             return Err(LinalgError::Dimension(format!(
@@ -85,123 +80,116 @@ impl ShiftedPencil {
             row_idx.extend_from_slice(&rows);
             col_ptr.push(row_idx.len());
         }
-        let locate = |a: &SparseMat| -> Vec<(usize, f64)> {
-            let mut out = Vec::new();
-            for j in 0..n {
-                let col = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-                for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-                    if i >= j {
-                        let p = col.binary_search(&i).expect("row in the union pattern");
-                        out.push((col_ptr[j] + p, *v));
-                    }
-                }
-            }
-            out
-        };
-        let k_entries = locate(k);
-        let m_entries = locate(m);
-        let ordering = ordering.resolve(n);
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let fail = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
-        let symbolic = match ordering {
-            Ordering::NestedDissection => {
-                // METIS wants both triangles: order on K + M's full pattern.
-                let full = crate::sparse::add_scaled(k, 1.0, m)?;
-                let (fwd, inv) = nested_dissection(&full)?;
-                drop(full);
-                let perm = PermRef::new_checked(&fwd, &inv, n);
-                factorize_symbolic_cholesky(
-                    pattern,
-                    Side::Lower,
-                    SymmetricOrdering::Custom(perm),
-                    Default::default(),
-                )
-                .map_err(fail)?
-            }
-            _ => factorize_symbolic_cholesky(
-                pattern,
-                Side::Lower,
-                SymmetricOrdering::Amd,
-                Default::default(),
-            )
-            .map_err(fail)?,
-        };
+        let symbolic = SymbolicLdlt::analyze_pattern(pattern, ordering)?;
         Ok(Self {
-            n,
+            k,
+            m,
             col_ptr,
             row_idx,
-            k_entries,
-            m_entries,
-            symbolic: Arc::new(symbolic),
-            ordering,
+            symbolic,
         })
     }
 
     /// Number of equations.
     pub fn dim(&self) -> usize {
-        self.n
+        self.col_ptr.len() - 1
     }
 
     /// The ordering that was used (with [`Ordering::Auto`] resolved).
     pub fn ordering(&self) -> Ordering {
-        self.ordering
+        self.symbolic.ordering()
     }
 
     /// Stored entries of the factor `L`.
     pub fn factor_len(&self) -> usize {
-        self.symbolic.len_val()
+        self.symbolic.factor_len()
+    }
+
+    /// The lower triangle of `K - sigma M` on the union pattern, columns in
+    /// parallel.
+    fn shifted_values(&self, sigma: f64) -> Vec<f64> {
+        let mut a = vec![0.0; self.row_idx.len()];
+        self.fill_columns(0..self.dim(), sigma, &mut a);
+        a
+    }
+
+    /// Fills columns `cols` of `K - sigma M` into `out` (their values),
+    /// splitting the range between threads.
+    fn fill_columns(&self, cols: std::ops::Range<usize>, sigma: f64, out: &mut [f64]) {
+        if cols.len() > 4096 {
+            let mid = cols.start + cols.len() / 2;
+            let (left, right) = out.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
+            rayon::join(
+                || self.fill_columns(cols.start..mid, sigma, left),
+                || self.fill_columns(mid..cols.end, sigma, right),
+            );
+            return;
+        }
+        let base = self.col_ptr[cols.start];
+        for j in cols {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            let col = &self.row_idx[range.clone()];
+            let out = &mut out[range.start - base..range.end - base];
+            for (matrix, scale) in [(self.k, 1.0), (self.m, -sigma)] {
+                // Both columns are sorted in the usual case: a merge walk,
+                // with a binary search for an unsorted input.
+                let mut p = 0;
+                for (i, v) in matrix.row_idx_of_col(j).zip(matrix.val_of_col(j)) {
+                    if i < j {
+                        continue;
+                    }
+                    while p < col.len() && col[p] < i {
+                        p += 1;
+                    }
+                    if p < col.len() && col[p] == i {
+                        out[p] += scale * v;
+                    } else if let Ok(q) = col.binary_search(&i) {
+                        out[q] += scale * v;
+                        p = 0;
+                    }
+                }
+            }
+        }
     }
 
     /// Factorises `K - sigma M`. An exactly zero pivot (a shift on an
     /// eigenvalue, or a singular `K` at `sigma = 0`) is an error naming the
     /// row in the original order.
     pub fn factorize(&self, sigma: f64) -> Result<ShiftedFactor, LinalgError> {
-        let mut a = vec![0.0; self.row_idx.len()];
-        for &(p, v) in &self.k_entries {
-            a[p] += v;
-        }
-        for &(p, v) in &self.m_entries {
-            a[p] -= sigma * v;
-        }
-        let sym = &*self.symbolic;
-        let pattern = SymbolicSparseColMatRef::new_checked(
-            self.n,
-            self.n,
-            &self.col_ptr,
-            None,
-            &self.row_idx,
-        );
-        let a_ref = SparseColMatRef::new(pattern, &a);
-        let mut values = vec![0.0; sym.len_val()];
-        let par = faer::get_global_parallelism();
-        let mut mem =
-            MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
-                .map_err(|_| LinalgError::Faer("out of memory in LDL^T".into()))?;
-        let result = sym.factorize_numeric_ldlt(
-            &mut values,
-            a_ref,
-            Side::Lower,
-            LdltRegularization::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        );
+        self.refactorize(sigma, Vec::new())
+    }
+
+    /// [`Self::factorize`] into the storage of a factor that is no longer
+    /// needed (the factor of a previous shift): the Sturm check of a large
+    /// model then holds one factor in memory, not two.
+    pub fn refactorize(
+        &self,
+        sigma: f64,
+        mut values: Vec<f64>,
+    ) -> Result<ShiftedFactor, LinalgError> {
+        let n = self.dim();
+        let a = self.shifted_values(sigma);
+        let pattern =
+            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        let result = self
+            .symbolic
+            .factorize_into(SparseColMatRef::new(pattern, &a), &mut values);
         drop(a);
-        let fwd: Option<&[usize]> = sym.perm().map(|p| p.arrays().0);
-        if let Err(faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { index }) = result {
-            let i = index.saturating_sub(1).min(self.n.saturating_sub(1));
+        if let Err(LinalgError::Singular { index, .. }) = result {
             return Err(LinalgError::Singular {
-                index: fwd.map_or(i, |f| f[i]),
+                index: self.symbolic.forward()[index],
                 pivot: 0.0,
                 diagonal: 0.0,
             });
         }
+        result?;
         let mut signs = PivotSigns {
             negative: 0,
             zero: 0,
             positive: 0,
         };
-        for d in crate::ldlt::permuted_pivots(sym, &values) {
+        for d in self.symbolic.permuted_pivots(&values) {
             if d < 0.0 {
                 signs.negative += 1;
             } else if d > 0.0 {
@@ -231,17 +219,15 @@ impl ShiftedFactor {
     }
 
     /// Solves `(K - sigma M) X = B` in place for a block of right-hand sides
-    /// (one sweep through `L` for the whole block).
+    /// (one sweep through `L` for the whole block, in parallel over the
+    /// elimination tree).
     pub fn solve_in_place(&self, x: MatMut<'_, f64>) {
-        let sym = &*self.symbolic;
-        let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
-        LdltRef::new(sym, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            x,
-            par,
-            MemStack::new(&mut mem),
-        );
+        self.symbolic.solve_in_place(&self.values, x);
+    }
+
+    /// The factor's storage, for [`ShiftedPencil::refactorize`].
+    pub fn into_storage(self) -> Vec<f64> {
+        self.values
     }
 }
 
