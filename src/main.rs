@@ -92,6 +92,11 @@ enum Command {
         /// Print {"r":..,"full_hz":[..],"reduced_hz":[..]} instead of the table.
         #[arg(long)]
         json: bool,
+        /// Compare with the full model's lowest r frequencies: `auto` (up to
+        /// 20000 DOFs; one more eigen solve of the full model), `always` or
+        /// `never`.
+        #[arg(long, default_value = "auto", value_parser = ["auto", "always", "never"])]
+        check: String,
     },
     /// Run the vehicle model of a model file in time ([simulation] table).
     Simulate {
@@ -186,6 +191,7 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
             factor_len,
             seconds,
         } => format!("analysed: {factor_len} entries in L ({seconds:.1} s)"),
+        Stage::Factorization { shift } if *shift == 0.0 => "factorising K".to_string(),
         Stage::Factorization { shift } => {
             format!("factorising K - sigma M, sigma = {shift:.3e}")
         }
@@ -207,7 +213,7 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
         } => {
             format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
         }
-        Stage::Solves { columns } => format!("solving for {columns} static modes"),
+        Stage::Solves { columns } => format!("solving for {columns} right-hand sides"),
         Stage::Done { seconds } => format!("eigenmodes done ({seconds:.1} s)"),
     }
 }
@@ -320,6 +326,7 @@ fn run(cli: Cli) -> Result<()> {
             vtu,
             orthonormalize,
             json,
+            check,
         } => run_reduce(
             &model,
             interface.as_deref(),
@@ -328,7 +335,7 @@ fn run(cli: Cli) -> Result<()> {
             (modes, fmax),
             (&out, format, vtu.as_deref()),
             orthonormalize,
-            json,
+            (json, &check),
         ),
         Command::Modes {
             model,
@@ -486,7 +493,7 @@ fn run_reduce(
     (modes, fmax): (usize, Option<f64>),
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
-    json: bool,
+    (json, check): (bool, &str),
 ) -> Result<()> {
     let c = load(model, matrices)?;
     let mut spec = Reduction::new(method, modes, c.interface(interface)?);
@@ -505,23 +512,36 @@ fn run_reduce(
     let body = reduce(&c.sub, &spec)?;
     let reduced_hz = body.frequencies_hz()?;
     let count = body.r().min(c.sub.len());
-    let full_hz = red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
-        .frequencies_hz();
+    let compare = match check {
+        "always" => true,
+        "never" => false,
+        _ => c.sub.len() <= CHECK_UP_TO,
+    };
+    let full_hz = if compare {
+        Some(
+            red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
+                .frequencies_hz(),
+        )
+    } else {
+        None
+    };
     if format == export::Format::Mtx {
         // The index carries the accuracy figures: the full model's
         // frequencies and the relative error of each reduced one (the
         // highest, those of static modes, are far off by nature).
-        let top = full_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
         let mut meta = export::mtx::Metadata {
-            full_frequencies_hz: Some(full_hz.clone()),
+            full_frequencies_hz: full_hz.clone(),
             ..Default::default()
         };
-        for (k, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
-            if *f > 1e-6 * top {
-                meta.accuracy.insert(
-                    format!("relative frequency error, mode {:02}", k + 1),
-                    (r - f).abs() / f,
-                );
+        if let Some(full_hz) = &full_hz {
+            let top = full_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
+            for (k, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
+                if *f > 1e-6 * top {
+                    meta.accuracy.insert(
+                        format!("relative frequency error, mode {:02}", k + 1),
+                        (r - f).abs() / f,
+                    );
+                }
             }
         }
         export::mtx::write_mtx(&body, Some(&c.sub), &meta, out)?;
@@ -549,12 +569,29 @@ fn run_reduce(
         body.r(),
         out.display()
     );
-    say!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
-    for (i, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
-        say!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
+    match &full_hz {
+        Some(full_hz) => {
+            say!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
+            for (i, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
+                say!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
+            }
+        }
+        None => {
+            say!(
+                "(no comparison with the full model above {CHECK_UP_TO} DOFs; --check always adds it)"
+            );
+            say!("{:>5} {:>14}", "mode", "reduced (Hz)");
+            for (i, r) in reduced_hz.iter().enumerate() {
+                say!("{:>5} {:>14.6}", i + 1, r);
+            }
+        }
     }
     Ok(())
 }
+
+/// Largest model whose reduction `reduce --check auto` compares with the
+/// full model's frequencies (the comparison is one more eigen solve).
+const CHECK_UP_TO: usize = 20_000;
 
 fn run_modes(model: &Path, matrices: &MatrixArgs, count: usize, json: bool) -> Result<()> {
     let c = load(model, matrices)?;

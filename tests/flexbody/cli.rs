@@ -104,6 +104,25 @@ fn reduce_writes_the_body_and_compares_frequencies() {
     }
     let body = flexbody::export::read_json(&out).unwrap();
     assert_eq!(body.r(), 7);
+    // Without the check, the full model is not solved again.
+    let o = flexbody(&[
+        "reduce",
+        model.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+        "--check",
+        "never",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(doc["full_hz"].is_null());
+    let again: Vec<f64> = serde_json::from_value(doc["reduced_hz"].clone()).unwrap();
+    assert_eq!(again, reduced);
 }
 
 #[test]

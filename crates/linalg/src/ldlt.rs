@@ -8,6 +8,7 @@
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
 use crate::ordering::{nested_dissection, Ordering};
+use crate::progress::Stage;
 use crate::supernodal::{permute_rows, unpermute_rows, SolvePlan};
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -211,9 +212,28 @@ pub struct Ldlt {
 
 impl Ldlt {
     /// Analyses and factorises `a` with default parameters; fails with
-    /// [`LinalgError::Singular`] if a pivot vanishes.
+    /// [`LinalgError::Singular`] if a pivot vanishes. The stages go to the
+    /// process-wide [`crate::progress::global`] hook (as a factorisation at
+    /// shift 0).
     pub fn factorize(a: &SparseMat) -> Result<Self, LinalgError> {
-        Self::factorize_with(&SymbolicLdlt::analyze(a)?, a, LdltParams::default())
+        let progress = crate::progress::global();
+        let t = std::time::Instant::now();
+        progress.report(&Stage::Ordering {
+            equations: a.nrows(),
+        });
+        let symbolic = SymbolicLdlt::analyze(a)?;
+        progress.report(&Stage::Analyzed {
+            factor_len: symbolic.factor_len(),
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        let t = std::time::Instant::now();
+        progress.report(&Stage::Factorization { shift: 0.0 });
+        let f = Self::factorize_with(&symbolic, a, LdltParams::default())?;
+        progress.report(&Stage::Factorized {
+            shift: 0.0,
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        Ok(f)
     }
 
     /// Factorises `a`, whose pattern `symbolic` was computed from.
@@ -309,6 +329,9 @@ impl Ldlt {
 
     /// Solves `A X = B` for a block of right-hand sides.
     pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
+        crate::progress::global().report(&Stage::Solves {
+            columns: rhs.ncols(),
+        });
         let mut x = rhs.to_owned();
         self.solve_in_place(&mut x);
         x

@@ -15,28 +15,50 @@ pub fn from_triplets(
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))
 }
 
-/// The sub-matrix `a[rows, cols]` (rows and cols are lists of indices of `a`).
+/// The sub-matrix `a[rows, cols]` (rows and cols are lists of indices of
+/// `a`), built column by column without a triplet list; the rows of each
+/// column stay sorted when `rows` is ascending (a complement of DOFs).
 pub fn submatrix(a: &SparseMat, rows: &[usize], cols: &[usize]) -> SparseMat {
     let mut row_map = vec![usize::MAX; a.nrows()];
     for (new, &old) in rows.iter().enumerate() {
         row_map[old] = new;
     }
-    let mut triplets = Vec::new();
-    for (new_col, &old_col) in cols.iter().enumerate() {
-        let col = a.as_ref();
-        for (i, v) in col
-            .row_idx_of_col(old_col)
-            .zip(col.val_of_col(old_col).iter())
-        {
-            let r = row_map[i];
-            if r != usize::MAX {
-                triplets.push(Triplet::new(r, new_col, *v));
-            }
+    let r = a.as_ref();
+    let mut col_ptr = Vec::with_capacity(cols.len() + 1);
+    let mut row_idx = Vec::new();
+    let mut values = Vec::new();
+    col_ptr.push(0);
+    let mut entries: Vec<(usize, f64)> = Vec::new();
+    for &old_col in cols {
+        entries.clear();
+        entries.extend(
+            r.row_idx_of_col(old_col)
+                .zip(r.val_of_col(old_col))
+                .filter(|(i, _)| row_map[*i] != usize::MAX)
+                .map(|(i, v)| (row_map[i], *v)),
+        );
+        if !entries.windows(2).all(|w| w[0].0 < w[1].0) {
+            entries.sort_by_key(|e| e.0);
+            entries.dedup_by(|later, first| {
+                let same = later.0 == first.0;
+                if same {
+                    first.1 += later.1;
+                }
+                same
+            });
         }
+        row_idx.extend(entries.iter().map(|e| e.0));
+        values.extend(entries.iter().map(|e| e.1));
+        col_ptr.push(row_idx.len());
     }
-    // Indices are in range by construction.
-    SparseMat::try_new_from_triplets(rows.len(), cols.len(), &triplets)
-        .expect("submatrix indices are in range")
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(
+        rows.len(),
+        cols.len(),
+        col_ptr,
+        None,
+        row_idx,
+    );
+    SparseMat::new(symbolic, values)
 }
 
 /// `a * b` for sparse `a` and dense `b`.

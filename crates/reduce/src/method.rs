@@ -15,9 +15,9 @@
 
 use crate::body::{ModeKind, ReducedBody};
 use crate::modes::{
-    self, constraint_modes, eigenmodes, fixed_interface_eigenmodes,
+    self, constraint_modes, eigenmodes, eigenmodes_in, fixed_interface_eigenmodes_in,
     inertia_relief_attachment_modes, residual_modes, rigid_body_modes,
-    statically_determinate_support, unit_loads, RigidModes,
+    statically_determinate_support, unit_loads, Band, RigidModes,
 };
 use crate::ReduceError;
 use faer::sparse::Triplet;
@@ -150,41 +150,22 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
     if spec.max_frequency_hz.is_some() && spec.modes > 0 {
         return Err(ReduceError::ModesAndBand(spec.modes));
     }
-    // Eigenmodes in the band: count them on the problem the method uses.
-    let e = match spec.max_frequency_hz {
-        None => spec.modes,
-        Some(f) => {
-            let (kb, mb, skip) = match spec.method {
-                Method::Free => (k.clone(), m.clone(), 0),
-                Method::FreeResidual => (k.clone(), m.clone(), rigid.count()),
-                Method::ElasticResidual => (
-                    sparse::add_scaled(k, 1.0, &support_stiffness(sub, &spec.springs)?)?,
-                    m.clone(),
-                    0,
-                ),
-                Method::CraigBampton | Method::Guyan => {
-                    let interior = modes::complement(&boundary, map.len());
-                    (
-                        sparse::submatrix(k, &interior, &interior),
-                        sparse::submatrix(m, &interior, &interior),
-                        0,
-                    )
-                }
-            };
-            if spec.method == Method::Guyan {
-                0
-            } else {
-                count_below(&kb, &mb, f)?.saturating_sub(skip)
-            }
-        }
+    // The eigenmodes each method takes: a count, or the band below fmax
+    // (found in one solve on the problem the method uses).
+    let band = |extra: usize| match spec.max_frequency_hz {
+        None => Band::Lowest(spec.modes + extra),
+        Some(f) => Band::BelowHz(f),
     };
     let (basis, kinds) = match spec.method {
         Method::Free => {
-            if e == 0 {
+            if band(0) == Band::Lowest(0) {
                 return Err(ReduceError::NoModes);
             }
-            let phi = eigenmodes(k, m, e)?;
-            if e > rigid.count() {
+            let phi = eigenmodes_in(k, m, band(0))?;
+            if phi.values.is_empty() {
+                return Err(ReduceError::NoModes);
+            }
+            if phi.values.len() > rigid.count() {
                 check_gap(&phi.values, rigid.count())?;
             }
             let kinds = phi
@@ -195,11 +176,15 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
             (phi.vectors, kinds)
         }
         Method::CraigBampton | Method::Guyan => {
-            if spec.method == Method::Guyan && e > 0 {
-                return Err(ReduceError::GuyanWithModes(e));
+            if spec.method == Method::Guyan && spec.modes > 0 {
+                return Err(ReduceError::GuyanWithModes(spec.modes));
             }
             let psi = constraint_modes(k, &boundary, map, &rigid)?;
-            let phi = fixed_interface_eigenmodes(k, m, &boundary, e)?;
+            let band = match spec.method {
+                Method::Guyan => Band::Lowest(0),
+                _ => band(0),
+            };
+            let phi = fixed_interface_eigenmodes_in(k, m, &boundary, band)?;
             let mut kinds: Vec<ModeKind> = boundary
                 .iter()
                 .map(|&i| ModeKind::Constraint { dof: map.dof(i) })
@@ -209,7 +194,7 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
         }
         Method::ElasticResidual => {
             let supported = sparse::add_scaled(k, 1.0, &support_stiffness(sub, &spec.springs)?)?;
-            let phi = eigenmodes(&supported, m, e)?;
+            let phi = eigenmodes_in(&supported, m, band(0))?;
             // The constraint modes of K and of K + C agree (C acts on H only).
             let psi = constraint_modes(k, &boundary, map, &rigid)?;
             let res = residual_modes(&psi, &phi.vectors, m);
@@ -237,8 +222,19 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
                 group_loads(sub, &spec.force_groups)?
             };
             let t_a = inertia_relief_attachment_modes(k, m, &rigid, &loads, &support, map)?;
-            let all = eigenmodes(k, m, nr + e.max(1).min(map.len().saturating_sub(nr)))?;
+            // At least one elastic mode, for the gap check.
+            let all = match band(nr) {
+                Band::Lowest(count) => eigenmodes(k, m, count.max(nr + 1).min(map.len()))?,
+                within => match eigenmodes_in(k, m, within)? {
+                    all if all.values.len() > nr => all,
+                    _ => eigenmodes(k, m, (nr + 1).min(map.len()))?.slice(0, nr),
+                },
+            };
             check_gap(&all.values, nr)?;
+            let e = match band(nr) {
+                Band::Lowest(_) => spec.modes,
+                Band::BelowHz(_) => all.values.len().saturating_sub(nr),
+            };
             let mut phi = all.slice(nr, nr + e);
             // Exact M-orthogonality to the geometric rigid-body modes.
             phi.vectors = residual_modes(&phi.vectors, &rigid.vectors, m);
@@ -319,20 +315,6 @@ fn group_loads(sub: &Substructure, groups: &[ForceGroup]) -> Result<Mat<f64>, Re
 
 /// Number of eigenvalues of `(k, m)` below `(2 pi f)^2`: more modes are
 /// requested until one lies above the band.
-fn count_below(k: &SparseMat, m: &SparseMat, f_hz: f64) -> Result<usize, ReduceError> {
-    let limit = (2.0 * std::f64::consts::PI * f_hz).powi(2);
-    let n = k.nrows();
-    let mut want = 16.min(n);
-    loop {
-        let modes = eigenmodes(k, m, want)?;
-        let below = modes.values.iter().filter(|l| **l < limit).count();
-        if below < want || want == n {
-            return Ok(below);
-        }
-        want = (2 * want).min(n);
-    }
-}
-
 /// Equation numbers of `dofs`, checked: known, free, not repeated.
 pub fn interface_equations(sub: &Substructure, dofs: &[Dof]) -> Result<Vec<usize>, ReduceError> {
     let mut eq = Vec::with_capacity(dofs.len());

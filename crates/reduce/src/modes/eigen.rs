@@ -48,6 +48,16 @@ pub enum EigenSolver {
     Sparse,
 }
 
+/// Which eigenpairs a reduction takes.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Band {
+    /// The lowest `n`.
+    Lowest(usize),
+    /// Every one below this frequency (Hz): the report's modes in the
+    /// excitation band, counted by the Sturm sequence.
+    BelowHz(f64),
+}
+
 /// The lowest `count` eigenpairs of `K phi = lambda M phi`.
 pub fn eigenmodes(
     stiffness: &SparseMat,
@@ -55,6 +65,34 @@ pub fn eigenmodes(
     count: usize,
 ) -> Result<EigenModes, ReduceError> {
     eigenmodes_with(stiffness, mass, count, EigenSolver::Auto)
+}
+
+/// The eigenpairs of `band`: one eigen solve either way (for a frequency
+/// bound the sparse solver counts by the Sturm sequence first).
+pub fn eigenmodes_in(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    band: Band,
+) -> Result<EigenModes, ReduceError> {
+    let limit = match band {
+        Band::Lowest(count) => return eigenmodes(stiffness, mass, count),
+        Band::BelowHz(f) => (2.0 * std::f64::consts::PI * f).powi(2),
+    };
+    let n = stiffness.nrows();
+    if n >= SPARSE_FROM {
+        let progress = flexbody_linalg::progress::global();
+        let found = lanczos(
+            stiffness,
+            mass,
+            Wanted::Below(limit),
+            &LanczosParams::default(),
+            &*progress,
+        )?;
+        return Ok(found.pairs);
+    }
+    let all = eigenmodes_with(stiffness, mass, n, EigenSolver::Dense)?;
+    let below = all.values.iter().filter(|l| **l < limit).count();
+    Ok(all.slice(0, below))
 }
 
 /// [`eigenmodes`] with the solver chosen.
@@ -126,11 +164,27 @@ pub fn fixed_interface_eigenmodes(
     boundary: &[usize],
     count: usize,
 ) -> Result<EigenModes, ReduceError> {
+    fixed_interface_eigenmodes_in(stiffness, mass, boundary, Band::Lowest(count))
+}
+
+/// [`fixed_interface_eigenmodes`] for a [`Band`].
+pub fn fixed_interface_eigenmodes_in(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    boundary: &[usize],
+    band: Band,
+) -> Result<EigenModes, ReduceError> {
     let n = stiffness.nrows();
+    if band == Band::Lowest(0) {
+        return Ok(EigenModes {
+            values: vec![],
+            vectors: Mat::zeros(n, 0),
+        });
+    }
     let interior = complement(boundary, n);
     let k = sparse::submatrix(stiffness, &interior, &interior);
     let m = sparse::submatrix(mass, &interior, &interior);
-    let modes = eigenmodes(&k, &m, count)?;
+    let modes = eigenmodes_in(&k, &m, band)?;
     Ok(EigenModes {
         vectors: expand(&modes.vectors, &interior, n),
         values: modes.values,

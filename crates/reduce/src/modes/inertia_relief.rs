@@ -21,7 +21,7 @@ use flexbody_linalg::{sparse, LinalgError, SparseMat};
 pub fn self_equilibrated_loads(mass: &SparseMat, rigid: &RigidModes, loads: &Mat<f64>) -> Mat<f64> {
     let t = &rigid.vectors;
     let rigid_accel = t.transpose() * loads;
-    loads - mass * (t * &rigid_accel)
+    loads - sparse::symmetric_mul(mass, (t * &rigid_accel).as_ref())
 }
 
 /// Chooses a statically determinate support: exactly as many DOFs as there
@@ -131,7 +131,7 @@ pub fn inertia_relief_attachment_modes(
     let x = expand(&ldlt.solve(rhs.as_ref()), &free, n);
     // t = G x = x - T_st (T_st^T M x).
     let t = &rigid.vectors;
-    let mx = mass * &x;
+    let mx = sparse::symmetric_mul(mass, x.as_ref());
     let c = t.transpose() * &mx;
     Ok(&x - t * &c)
 }

@@ -9,7 +9,10 @@ pub mod rigid;
 
 pub use attachment::{attachment_modes, unit_loads};
 pub use constraint::constraint_modes;
-pub use eigen::{eigenmodes, fixed_interface_eigenmodes, EigenModes, DENSE_LIMIT};
+pub use eigen::{
+    eigenmodes, eigenmodes_in, fixed_interface_eigenmodes, fixed_interface_eigenmodes_in, Band,
+    EigenModes, DENSE_LIMIT,
+};
 pub use inertia_relief::{
     inertia_relief_attachment_modes, self_equilibrated_loads, statically_determinate_support,
 };
