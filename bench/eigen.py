@@ -1,31 +1,38 @@
 #!/usr/bin/env python3
 """Benchmark of issue 6: the lowest 20 elastic modes (+6 rigid) of free steel
-box-section beams, flexbody against SciPy eigsh (SuperLU and CHOLMOD as
-OPinv) and CalculiX *FREQUENCY, side by side; plus the free-residual and
-Craig-Bampton reductions (4 interface nodes = 12 DOFs) on the largest model
-against Exudyn's FEMinterface.ComputeHurtyCraigBamptonModes.
+box-section beams meshed with C3D8 and C3D10, flexbody against SciPy eigsh
+(SuperLU, and CHOLMOD as OPinv) and CalculiX *FREQUENCY, side by side; then
+the free-residual and Craig-Bampton reductions (4 interface nodes = 12 DOFs)
+on the largest model, against Exudyn's
+FEMinterface.ComputeHurtyCraigBamptonModes (Craig-Bampton).
 
-usage: bench/eigen.py [--sizes 3e4,1e5,3e5] [--no-install] [--skip ccx,superlu,...]
-       [--reductions] [--work DIR]
+usage: bench/eigen.py [--sizes 3e4,1e5,3e5] [--types C3D8,C3D10]
+       [--skip ccx,superlu,cholmod,exudyn] [--reductions] [--no-install]
+       [--work DIR]
 
-Each tool runs in a fresh child process; wall time and its peak RSS are
-printed, with the ratio of each peer's time to flexbody's, and the check that
-every tool's elastic frequencies agree with flexbody's to 1e-6 relative.
-K and M for SciPy and Exudyn come from CalculiX's MATRIXSTORAGE output of the
-same deck (its time is not counted). Only C3D8 decks are generated (the deck
-generator has no C3D10 yet).
+Each tool runs in a fresh child process; its wall time and peak RSS are
+printed with the ratio of each peer's time to flexbody's, and every tool's
+elastic frequencies are checked against flexbody's (relative 1e-6). K and M
+for SciPy and Exudyn come from CalculiX's MATRIXSTORAGE output of the same
+deck (not timed; SciPy's time includes reading them, eigsh alone is shown).
+The reductions also print the floor of issue 6: one ordering plus one
+factorisation of K - sigma M, from flexbody's --verbose log of the modes run.
 """
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COUNT = 26  # 6 rigid + 20 elastic
-# target DOFs -> (nx, ny, nz) of a one-element-wall box section, 2 x 0.24 x 0.2 m
-# (a one-element wall keeps 4 (ny + nz) - 8 nodes per cross-section)
-SIZES = {"3e4": (138, 10, 10), "1e5": (277, 16, 16), "3e5": (542, 24, 24)}
+# type -> target DOFs -> (nx, ny, nz) of a one-element-wall box section,
+# 2 x 0.24 x 0.2 m (C3D10 has nodes on a grid of half the cell size)
+SIZES = {
+    "C3D8": {"3e4": (138, 10, 10), "1e5": (277, 16, 16), "3e5": (542, 24, 24)},
+    "C3D10": {"3e4": (52, 5, 5), "1e5": (100, 8, 8), "3e5": (190, 12, 12)},
+}
 ENV = dict(os.environ, OMP_NUM_THREADS="2", OPENBLAS_NUM_THREADS="1")
 
 
@@ -37,14 +44,14 @@ def measured(cmd, cwd, env=ENV):
         "p=subprocess.run(sys.argv[1:],capture_output=True,text=True)\n"
         "dt=time.perf_counter()-t\n"
         "print(json.dumps({'rc':p.returncode,'s':dt,'kb':resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,"
-        "'out':p.stdout[-20000:],'err':p.stderr[-4000:]}))\n"
+        "'out':p.stdout[-20000:],'err':p.stderr[-20000:]}))\n"
     )
     p = subprocess.run([sys.executable, "-c", code] + cmd, cwd=cwd, env=env, capture_output=True, text=True)
     r = json.loads(p.stdout)
     if r["rc"] != 0:
-        print("%s failed (%d):\n%s\n%s" % (" ".join(cmd), r["rc"], r["out"][-2000:], r["err"]))
+        print("%s failed (%d):\n%s\n%s" % (" ".join(cmd), r["rc"], r["out"][-2000:], r["err"][-2000:]))
         return None
-    return r["s"], r["kb"] / 1024.0 / 1024.0, r["out"]
+    return r["s"], r["kb"] / 1024.0 / 1024.0, r["out"], r["err"]
 
 
 SCIPY = r'''
@@ -55,10 +62,9 @@ def read(path, n=None):
     r, c, v = d[:, 0].astype(int) - 1, d[:, 1].astype(int) - 1, d[:, 2]
     n = n or max(r.max(), c.max()) + 1
     off = r != c
-    a = sp.coo_matrix((np.r_[v, v[off]], (np.r_[r, c[off]], np.r_[c, r[off]])), shape=(n, n)).tocsc()
-    return a
+    return sp.coo_matrix((np.r_[v, v[off]], (np.r_[r, c[off]], np.r_[c, r[off]])), shape=(n, n)).tocsc()
 K = read(job + ".sti"); M = read(job + ".mas", K.shape[0])
-sigma = -1e-6 * abs(K.diagonal()).sum() / abs(M.diagonal()).sum()
+sigma = -(2 * np.pi * 10.0) ** 2  # SuperLU loses digits at -1 on a free body
 t = time.perf_counter()
 if mode == "superlu":
     w, _ = sla.eigsh(K, k=count, M=M, sigma=sigma, which="LM")
@@ -73,22 +79,41 @@ print(json.dumps({"hz": list(np.sqrt(np.maximum(w, 0)) / 2 / np.pi), "solve_s": 
 '''
 
 EXUDYN = r'''
-import sys, time, json, numpy as np
+import sys, time, json, numpy as np, scipy.linalg as sl, scipy.sparse as sp
 import exudyn.FEM as F
-job, nodes = sys.argv[1], [int(x) for x in sys.argv[2].split(",")]
-def triplets(path):
+job, deck, boundary = sys.argv[1], sys.argv[2], [int(x) for x in sys.argv[3].split(",")]
+def read(path, n=None):
     d = np.loadtxt(path, ndmin=2)
     r, c, v = d[:, 0].astype(int) - 1, d[:, 1].astype(int) - 1, d[:, 2]
+    n = n or max(r.max(), c.max()) + 1
     off = r != c
-    return np.c_[np.r_[r, c[off]], np.r_[c, r[off]], np.r_[v, v[off]]]
+    return sp.coo_matrix((np.r_[v, v[off]], (np.r_[r, c[off]], np.r_[c, r[off]])), shape=(n, n)).tocsr()
+# Equation order of CalculiX (node.direction per equation): node-major,
+# 3 translations each, which is Exudyn's 'Position' node layout.
+eq = [line.split()[0].split(".") for line in open(job + ".dof") if line.strip()]
+order = [int(n) for n, d in eq[::3]]
+assert [int(d) for n, d in eq] == [1, 2, 3] * len(order), "3 DOFs per node expected"
+xyz, on = {}, False
+for line in open(deck):
+    if line.startswith("*"):
+        on = line.upper().startswith("*NODE")
+        continue
+    if on:
+        p = line.split(",")
+        xyz[int(p[0])] = [float(x) for x in p[1:4]]
+index = {n: i for i, n in enumerate(order)}
 fem = F.FEMinterface()
-fem.stiffnessMatrix = triplets(job + ".sti")
-fem.massMatrix = triplets(job + ".mas")
-dofs = np.loadtxt(job + ".dof", ndmin=2) if False else None
+fem.nodes = {"Position": np.array([xyz[n] for n in order])}
+fem.stiffnessMatrix = read(job + ".sti")
+fem.massMatrix = read(job + ".mas", fem.stiffnessMatrix.shape[0])
 t = time.perf_counter()
-fem.ComputeHurtyCraigBamptonModes(boundaryNodesList=[[n] for n in nodes], nEigenModes=20,
-                                  useSparseSolver=True, computationMode=F.HCBstaticModeSelection.RBE2)
-print(json.dumps({"s": time.perf_counter() - t}))
+fem.ComputeHurtyCraigBamptonModes(boundaryNodesList=[[index[n] for n in boundary]], nEigenModes=20,
+                                  useSparseSolver=True,
+                                  computationMode=F.HCBstaticModeSelection.allBoundaryNodes)
+dt = time.perf_counter() - t
+K, M, phi = fem.GetStiffnessMatrix(sparse=True), fem.GetMassMatrix(sparse=True), fem.modeBasis["matrix"]
+w = sl.eigh(phi.T @ (K @ phi), phi.T @ (M @ phi), eigvals_only=True)
+print(json.dumps({"s": dt, "hz": list(np.sqrt(np.maximum(w, 0)) / 2 / np.pi)}))
 '''
 
 
@@ -107,17 +132,55 @@ def ccx_frequencies(dat):
     return hz
 
 
-def agree(name, hz, ref):
+def agree(name, hz, ref, least=20):
     el = [(a, b) for a, b in zip(hz, ref) if b > 1.0]
-    if len(el) < 20:
+    if len(el) < least:
         return "%s: only %d elastic frequencies" % (name, len(el))
     worst = max(abs(a - b) / b for a, b in el)
     return "%s: max rel diff %.1e %s" % (name, worst, "ok" if worst < 1e-6 else "DIFFERS")
 
 
+def floor_seconds(log):
+    """Ordering + one factorisation of K - sigma M from a --verbose log."""
+    analysed = re.search(r"analysed: \d+ entries in L \(([\d.]+) s\)", log)
+    factorised = re.search(r"factorised \(([\d.]+) s\)", log)
+    if analysed and factorised:
+        return float(analysed.group(1)) + float(factorised.group(1))
+    return None
+
+
+def corner_nodes(deck):
+    """The 4 corner nodes of the end face x = 0 (12 DOFs)."""
+    xyz, on = {}, False
+    for line in open(deck):
+        if line.startswith("*"):
+            on = line.upper().startswith("*NODE")
+            continue
+        if on:
+            p = line.split(",")
+            xyz[int(p[0])] = tuple(float(x) for x in p[1:4])
+    face = [(n, p) for n, p in xyz.items() if abs(p[0]) < 1e-12]
+    ys = [p[1] for _, p in face]
+    zs = [p[2] for _, p in face]
+    pick = []
+    for y in (min(ys), max(ys)):
+        for z in (min(zs), max(zs)):
+            pick.append(min(face, key=lambda q: abs(q[1][1] - y) + abs(q[1][2] - z))[0])
+    return pick
+
+
+def table(rows):
+    t0 = rows[0][1]
+    print("%-18s %10s %10s %8s  %s" % ("tool", "seconds", "peak GB", "x flexb", "check"))
+    for name, s, gb, note in rows:
+        print("%-18s %10.2f %10.2f %8.2f  %s" % (name, s, gb, s / t0, note))
+    sys.stdout.flush()
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--sizes", default="3e4,1e5,3e5")
+    p.add_argument("--types", default="C3D8,C3D10")
     p.add_argument("--skip", default="")
     p.add_argument("--no-install", action="store_true")
     p.add_argument("--reductions", action="store_true")
@@ -125,62 +188,82 @@ def main():
     a = p.parse_args()
     skip = set(a.skip.split(","))
     if not a.no_install:
-        subprocess.run(["apt-get", "install", "-y", "-q", "libsuitesparse-dev"], capture_output=True)
+        subprocess.run(["apt-get", "install", "-y", "-q", "calculix-ccx", "libsuitesparse-dev"], capture_output=True)
         subprocess.run([sys.executable, "-m", "pip", "install", "-q", "scipy", "scikit-sparse==0.4.16", "exudyn"])
     subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
     exe = os.path.join(ROOT, "target", "release", "flexbody")
     os.makedirs(a.work, exist_ok=True)
     sizes = a.sizes.split(",")
-    for size in sizes:
-        nx, ny, nz = SIZES[size]
-        base = "beam_%s" % size
-        gen = [sys.executable, os.path.join(ROOT, "bench", "gen_block.py"), str(nx), str(ny), str(nz)]
-        out = subprocess.run(gen + [base + ".inp", "--hollow", "1", "--step", "frequency:%d" % COUNT],
-                             cwd=a.work, check=True, capture_output=True, text=True).stdout
-        subprocess.run(gen + [base + "_k.inp", "--hollow", "1", "--step", "matrixstorage"],
-                       cwd=a.work, check=True, capture_output=True)
-        print("\n== %s" % out.strip())
-        rows = []
-        r = measured([exe, "modes", base + ".inp", "--count", str(COUNT), "--json"], a.work)
-        if r is None:
-            continue
-        ref = json.loads(r[2])["frequencies_hz"]
-        rows.append(("flexbody", r[0], r[1], "max residual %.1e" % max(json.loads(r[2])["residuals"])))
-        if not ({"superlu", "cholmod"} <= skip) and not os.path.exists(os.path.join(a.work, base + "_k.sti")):
-            subprocess.run(["ccx", "-i", base + "_k"], cwd=a.work, env=ENV, check=True, capture_output=True)
-        for mode in ("superlu", "cholmod"):
-            if mode in skip:
+    types = a.types.split(",")
+    for kind in types:
+        for size in sizes:
+            nx, ny, nz = SIZES[kind][size]
+            base = "beam_%s_%s" % (kind.lower(), size)
+            gen = [sys.executable, os.path.join(ROOT, "bench", "gen_block.py"), str(nx), str(ny), str(nz)]
+            out = subprocess.run(gen + [base + ".inp", "--type", kind, "--hollow", "1", "--step",
+                                        "frequency:%d" % COUNT],
+                                 cwd=a.work, check=True, capture_output=True, text=True).stdout
+            subprocess.run(gen + [base + "_k.inp", "--type", kind, "--hollow", "1", "--step", "matrixstorage"],
+                           cwd=a.work, check=True, capture_output=True)
+            print("\n== %s" % out.strip())
+            rows = []
+            r = measured([exe, "--verbose", "modes", base + ".inp", "--count", str(COUNT), "--json"], a.work)
+            if r is None:
                 continue
-            r = measured([sys.executable, "-c", SCIPY, base + "_k", mode, str(COUNT)], a.work)
+            ref = json.loads(r[2])["frequencies_hz"]
+            floor = floor_seconds(r[3])
+            rows.append(("flexbody", r[0], r[1], "max residual %.1e, order + factor %.1f s"
+                         % (max(json.loads(r[2])["residuals"]), floor or float("nan"))))
+            needs_k = not ({"superlu", "cholmod"} <= skip) or a.reductions
+            if needs_k and not os.path.exists(os.path.join(a.work, base + "_k.sti")):
+                subprocess.run(["ccx", "-i", base + "_k"], cwd=a.work, env=ENV, check=True, capture_output=True)
+            for mode in ("superlu", "cholmod"):
+                if mode in skip:
+                    continue
+                r = measured([sys.executable, "-c", SCIPY, base + "_k", mode, str(COUNT)], a.work)
+                if r:
+                    d = json.loads(r[2].strip().splitlines()[-1])
+                    rows.append(("scipy+" + mode, r[0], r[1],
+                                 agree(mode, d["hz"], ref) + ", eigsh %.1f s" % d["solve_s"]))
+            if "ccx" not in skip:
+                r = measured(["ccx", "-i", base], a.work)
+                if r:
+                    rows.append(("calculix", r[0], r[1],
+                                 agree("ccx", ccx_frequencies(os.path.join(a.work, base + ".dat")), ref)))
+            table(rows)
+    if a.reductions:
+        kind, size = types[0], sizes[-1]
+        base = "beam_%s_%s" % (kind.lower(), size)
+        nodes = corner_nodes(os.path.join(a.work, base + ".inp"))
+        iface = ",".join(map(str, nodes))
+        print("\n== reductions on %s, 20 eigenmodes, interface nodes %s (12 DOFs)" % (base, iface))
+        r = measured([exe, "info", base + ".inp"], a.work)
+        read = r[0] if r else 0.0
+        r = measured([exe, "--verbose", "modes", base + ".inp", "--count", "1"], a.work)
+        floor = floor_seconds(r[3]) if r else None
+        print("read + assemble %.1f s; floor (ordering + one factorisation of K - sigma M) %.1f s"
+              % (read, floor or float("nan")))
+        rows, cb_hz = [], None
+        for method in ("craig-bampton", "free-residual"):
+            r = measured([exe, "reduce", base + ".inp", "--method", method, "--modes", "20",
+                          "--interface", iface, "--out", method + ".json", "--json", "--check", "never"],
+                         a.work)
+            if r:
+                hz = json.loads(r[2])["reduced_hz"]
+                if method == "craig-bampton":
+                    cb_hz = hz
+                note = "reduction without read %.1f s = %.1f x floor" % (r[0] - read, (r[0] - read) / floor) \
+                    if floor else ""
+                rows.append(("flexbody " + method, r[0], r[1], note))
+        if "exudyn" not in skip and cb_hz:
+            if not os.path.exists(os.path.join(a.work, base + "_k.sti")):
+                subprocess.run(["ccx", "-i", base + "_k"], cwd=a.work, env=ENV, check=True, capture_output=True)
+            r = measured([sys.executable, "-c", EXUDYN, base + "_k", base + ".inp", iface], a.work)
             if r:
                 d = json.loads(r[2].strip().splitlines()[-1])
-                rows.append(("scipy+" + mode, r[0], r[1], agree(mode, d["hz"], ref) + ", eigsh %.1f s" % d["solve_s"]))
-        if "ccx" not in skip:
-            r = measured(["ccx", "-i", base], a.work)
-            if r:
-                rows.append(("calculix", r[0], r[1], agree("ccx", ccx_frequencies(os.path.join(a.work, base + ".dat")), ref)))
-        t0 = rows[0][1]
-        print("%-16s %10s %10s %8s  %s" % ("tool", "seconds", "peak GB", "x flexb", "check"))
-        for name, s, gb, note in rows:
-            print("%-16s %10.2f %10.2f %8.2f  %s" % (name, s, gb, s / t0, note))
-    if a.reductions:
-        size = sizes[-1]
-        nx, ny, nz = SIZES[size]
-        base = "beam_%s" % size
-        # 4 corner nodes of the end face x = 0 (12 DOFs)
-        nid = lambda i, j, k: 1 + i + (nx + 1) * (j + (ny + 1) * k)
-        nodes = [nid(0, 0, 0), nid(0, ny, 0), nid(0, 0, nz), nid(0, ny, nz)]
-        iface = ",".join(map(str, nodes))
-        print("\n== reductions on %s, interface nodes %s" % (base, iface))
-        for method in ("free-residual", "craig-bampton"):
-            r = measured([exe, "reduce", base + ".inp", "--method", method, "--modes", "20",
-                          "--interface", iface, "--out", method + ".json", "--json"], a.work)
-            if r:
-                print("flexbody %-14s %8.2f s %6.2f GB" % (method, r[0], r[1]))
-        if "exudyn" not in skip:
-            r = measured([sys.executable, "-c", EXUDYN, base + "_k", iface], a.work)
-            if r:
-                print("exudyn HCB          %8.2f s %6.2f GB" % (r[0], r[1]))
+                rows.append(("exudyn HCB", r[0], r[1], agree("reduced CB", d["hz"], cb_hz, least=26)
+                             + ", HCB alone %.1f s" % d["s"]))
+        table(rows)
 
 
 if __name__ == "__main__":
