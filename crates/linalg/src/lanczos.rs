@@ -527,6 +527,17 @@ fn project_out(
     c
 }
 
+/// `V[:, ..k] = V[:, ..e] Y` for `Y` of `e x k`, `k <= e`, by blocks of
+/// rows in parallel: no `n x k` temporary (0.3 GB at 3e5 DOFs).
+fn rotate_in_place(v: &mut Mat<f64>, e: usize, y: MatRef<'_, f64>) {
+    use rayon::prelude::*;
+    let k = y.ncols();
+    v.as_mut().par_row_chunks_mut(2048).for_each(|rows| {
+        let rotated = rows.as_ref().subcols(0, e) * y;
+        rows.subcols_mut(0, k).copy_from(&rotated);
+    });
+}
+
 /// M-orthonormalises the columns of `w` (with `mw = M w`) in place by
 /// Gram-Schmidt twice; returns the upper-triangular `B` with `W_in = Q B`.
 /// A column that vanishes (`<= 1e-10` of `before`, its M-norm before the
@@ -830,10 +841,8 @@ fn krylov_schur(
             let kk = restart_size.min(e);
             stats.restarts += 1;
             let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[j])]);
-            let new_v = v.subcols(0, e) * &y;
-            let new_mv = mv.subcols(0, e) * &y;
-            v.subcols_mut(0, kk).copy_from(&new_v);
-            mv.subcols_mut(0, kk).copy_from(&new_mv);
+            rotate_in_place(&mut v, e, y.as_ref());
+            rotate_in_place(&mut mv, e, y.as_ref());
             v.subcols_mut(kk, blk).copy_from(&w);
             mv.subcols_mut(kk, blk).copy_from(&mw);
             h.fill(0.0);
