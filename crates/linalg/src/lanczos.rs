@@ -157,19 +157,40 @@ pub fn lanczos(
     params: &LanczosParams,
     progress: &dyn Progress,
 ) -> Result<SparseEigen, LinalgError> {
-    let start = Instant::now();
-    let n = k.nrows();
-    let mut stats = LanczosStats::default();
     let t = Instant::now();
-    progress.report(&Stage::Ordering { equations: n });
-    let pencil = ShiftedPencil::analyze(k, m, params.ordering)?;
-    stats.analysis_seconds = t.elapsed().as_secs_f64();
-    stats.ordering = pencil.ordering();
-    stats.factor_len = pencil.factor_len();
-    progress.report(&Stage::Analyzed {
-        factor_len: stats.factor_len,
-        seconds: stats.analysis_seconds,
+    progress.report(&Stage::Ordering {
+        equations: k.nrows(),
     });
+    let pencil = ShiftedPencil::analyze(k, m, params.ordering)?;
+    let seconds = t.elapsed().as_secs_f64();
+    progress.report(&Stage::Analyzed {
+        factor_len: pencil.factor_len(),
+        seconds,
+    });
+    let mut found = lanczos_on(&pencil, None, wanted, params, progress)?;
+    found.stats.analysis_seconds = seconds;
+    Ok(found)
+}
+
+/// [`lanczos`] on a pencil the caller has analysed, e.g. to solve static
+/// modes with the same analysis first. A `factor` of the pencil that the
+/// caller no longer needs becomes the Lanczos operator when its shift is
+/// `params.shift`; otherwise its storage is reused.
+pub fn lanczos_on(
+    pencil: &ShiftedPencil<'_>,
+    factor: Option<ShiftedFactor>,
+    wanted: Wanted,
+    params: &LanczosParams,
+    progress: &dyn Progress,
+) -> Result<SparseEigen, LinalgError> {
+    let start = Instant::now();
+    let (k, m) = (pencil.stiffness(), pencil.mass());
+    let n = k.nrows();
+    let mut stats = LanczosStats {
+        ordering: pencil.ordering(),
+        factor_len: pencil.factor_len(),
+        ..Default::default()
+    };
     let k_diag = crate::sparse::diagonal(k);
     let m_diag = crate::sparse::diagonal(m);
     let trace_k: f64 = k_diag.iter().map(|v| v.abs()).sum();
@@ -180,11 +201,16 @@ pub fn lanczos(
     let sigma = params
         .shift
         .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE));
+    let (factor, spare) = match factor {
+        Some(f) if f.shift() == sigma => (Some(f), Vec::new()),
+        Some(f) => (None, f.into_storage()),
+        None => (None, Vec::new()),
+    };
     let mut op = Operator {
-        pencil: &pencil,
+        pencil,
         sigma,
-        factor: None,
-        spare: Vec::new(),
+        factor,
+        spare,
         m,
         progress,
         solves: 0,
@@ -405,15 +431,17 @@ impl Operator<'_, '_> {
                 shift: sigma,
                 seconds,
             });
-            if f.inertia().negative > 0 {
-                return Err(LinalgError::Dimension(format!(
-                    "the Lanczos shift {sigma:e} lies above {} eigenvalues; it must lie below the spectrum",
-                    f.inertia().negative
-                )));
-            }
             self.factor = Some(f);
         }
-        Ok(self.factor.as_ref().expect("factorised above"))
+        let f = self.factor.as_ref().expect("factorised above");
+        if f.inertia().negative > 0 {
+            return Err(LinalgError::Dimension(format!(
+                "the Lanczos shift {:e} lies above {} eigenvalues; it must lie below the spectrum",
+                self.sigma,
+                f.inertia().negative
+            )));
+        }
+        Ok(f)
     }
 
     /// Eigenvalues below `bound` by the inertia of `K - bound M`, in the

@@ -45,7 +45,12 @@ pub struct ShiftedFactor {
     values: Vec<f64>,
     shift: f64,
     signs: PivotSigns,
+    tiny_pivot: Option<usize>,
 }
+
+/// A pivot at most this fraction of its row's diagonal entry counts as
+/// vanished for [`ShiftedFactor::tiny_pivot`] (as in [`crate::ldlt::LdltParams`]).
+const TINY_PIVOT: f64 = 1e-11;
 
 impl<'a> ShiftedPencil<'a> {
     /// Builds the union pattern of the symmetric `k` and `m` and analyses it
@@ -89,6 +94,16 @@ impl<'a> ShiftedPencil<'a> {
             row_idx,
             symbolic,
         })
+    }
+
+    /// `K`.
+    pub fn stiffness(&self) -> &'a SparseMat {
+        self.k
+    }
+
+    /// `M`.
+    pub fn mass(&self) -> &'a SparseMat {
+        self.m
     }
 
     /// Number of equations.
@@ -170,6 +185,8 @@ impl<'a> ShiftedPencil<'a> {
     ) -> Result<ShiftedFactor, LinalgError> {
         let n = self.dim();
         let a = self.shifted_values(sigma);
+        // The first entry of each lower column is its diagonal.
+        let diagonal: Vec<f64> = (0..n).map(|j| a[self.col_ptr[j]]).collect();
         let pattern =
             SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let result = self
@@ -189,7 +206,18 @@ impl<'a> ShiftedPencil<'a> {
             zero: 0,
             positive: 0,
         };
-        for d in self.symbolic.permuted_pivots(&values) {
+        let forward = self.symbolic.forward();
+        let mut tiny_pivot = None;
+        for (i, d) in self
+            .symbolic
+            .permuted_pivots(&values)
+            .into_iter()
+            .enumerate()
+        {
+            let row = forward[i];
+            if tiny_pivot.is_none() && d.abs() <= TINY_PIVOT * diagonal[row].abs() {
+                tiny_pivot = Some(row);
+            }
             if d < 0.0 {
                 signs.negative += 1;
             } else if d > 0.0 {
@@ -203,6 +231,7 @@ impl<'a> ShiftedPencil<'a> {
             values,
             shift: sigma,
             signs,
+            tiny_pivot,
         })
     }
 }
@@ -216,6 +245,15 @@ impl ShiftedFactor {
     /// Signs of the pivots: `negative` eigenvalues lie below the shift.
     pub fn inertia(&self) -> PivotSigns {
         self.signs
+    }
+
+    /// The first row (original order, in elimination order) whose pivot
+    /// is round-off against its diagonal entry: for a matrix that must be
+    /// regular (a stiffness matrix at shift 0), the DOF where it is
+    /// singular. Shifted, indefinite matrices may have such pivots
+    /// legitimately.
+    pub fn tiny_pivot(&self) -> Option<usize> {
+        self.tiny_pivot
     }
 
     /// Solves `(K - sigma M) X = B` in place for a block of right-hand sides

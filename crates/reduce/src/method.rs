@@ -15,7 +15,7 @@
 
 use crate::body::{ModeKind, ReducedBody};
 use crate::modes::{
-    self, constraint_modes, eigenmodes, eigenmodes_in, fixed_interface_eigenmodes_in,
+    self, constraint_modes, craig_bampton_modes, eigenmodes, eigenmodes_in,
     inertia_relief_attachment_modes, residual_modes, rigid_body_modes,
     statically_determinate_support, unit_loads, Band, RigidModes,
 };
@@ -179,12 +179,11 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
             if spec.method == Method::Guyan && spec.modes > 0 {
                 return Err(ReduceError::GuyanWithModes(spec.modes));
             }
-            let psi = constraint_modes(k, &boundary, map, &rigid)?;
             let band = match spec.method {
                 Method::Guyan => Band::Lowest(0),
                 _ => band(0),
             };
-            let phi = fixed_interface_eigenmodes_in(k, m, &boundary, band)?;
+            let (psi, phi) = craig_bampton_modes(k, m, &boundary, map, &rigid, band)?;
             let mut kinds: Vec<ModeKind> = boundary
                 .iter()
                 .map(|&i| ModeKind::Constraint { dof: map.dof(i) })

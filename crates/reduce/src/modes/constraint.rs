@@ -37,6 +37,17 @@ pub fn constraint_modes(
     })?;
     let rhs = -k_nh.to_dense();
     let u_n = ldlt.solve(rhs.as_ref());
+    Ok(constraint_columns(n, boundary, &interior, &u_n))
+}
+
+/// The columns `[I; u_N]` of eq. 16 with the sorting undone (eq. 17), from
+/// the interior solution `u_N = -K_NN^-1 K_NH`.
+pub(crate) fn constraint_columns(
+    n: usize,
+    boundary: &[usize],
+    interior: &[usize],
+    u_n: &Mat<f64>,
+) -> Mat<f64> {
     let mut t = Mat::zeros(n, boundary.len());
     for (j, &h) in boundary.iter().enumerate() {
         t[(h, j)] = 1.0;
@@ -44,13 +55,13 @@ pub fn constraint_modes(
             t[(i, j)] = u_n[(k, j)];
         }
     }
-    Ok(t)
+    t
 }
 
 /// If the boundary rows of the rigid-body modes do not have full rank, some
 /// rigid motion leaves the boundary at rest: K_NN is singular. Names the
 /// interior DOFs that motion moves most.
-fn mechanism_check(
+pub(crate) fn mechanism_check(
     boundary: &[usize],
     interior: &[usize],
     dof_map: &DofMap,

@@ -3,6 +3,7 @@
 pub mod attachment;
 pub mod constraint;
 pub mod eigen;
+pub mod fixed_interface;
 pub mod inertia_relief;
 pub mod residual;
 pub mod rigid;
@@ -13,6 +14,7 @@ pub use eigen::{
     eigenmodes, eigenmodes_in, fixed_interface_eigenmodes, fixed_interface_eigenmodes_in, Band,
     EigenModes, DENSE_LIMIT,
 };
+pub use fixed_interface::craig_bampton_modes;
 pub use inertia_relief::{
     inertia_relief_attachment_modes, self_equilibrated_loads, statically_determinate_support,
 };

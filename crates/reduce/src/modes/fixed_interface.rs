@@ -1,0 +1,100 @@
+//! Craig-Bampton's two mode sets (report 6.4) from one factorisation:
+//! the constraint modes `[I; -K_NN^-1 K_NH]` (eq. 14-17) and the eigenmodes
+//! of the body fixed at its interface, `K_NN phi = lambda M_NN phi`.
+//!
+//! `K_NN` is regular (the interface supports the body), so the Lanczos
+//! solver can work at shift 0 on the very factor of `K_NN` that gave the
+//! constraint modes: one ordering and one factorisation of `K_NN` serve
+//! both (plus the Sturm check's), where two separate solvers would pay for
+//! two. Small models take the separate dense path.
+
+use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
+use super::eigen::{fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
+use super::{complement, expand, EigenModes, RigidModes};
+use crate::ReduceError;
+use faer::Mat;
+use flexbody_fem::DofMap;
+use flexbody_linalg::lanczos::{lanczos_on, LanczosParams, Wanted};
+use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
+
+/// Constraint modes (m x s) and the fixed-interface eigenmodes of `band`
+/// (zero at the `boundary` equations).
+pub fn craig_bampton_modes(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    boundary: &[usize],
+    dof_map: &DofMap,
+    rigid: &RigidModes,
+    band: Band,
+) -> Result<(Mat<f64>, EigenModes), ReduceError> {
+    let n = stiffness.nrows();
+    let interior = complement(boundary, n);
+    if interior.len() < SPARSE_FROM || band == Band::Lowest(0) {
+        return Ok((
+            constraint_modes(stiffness, boundary, dof_map, rigid)?,
+            fixed_interface_eigenmodes_in(stiffness, mass, boundary, band)?,
+        ));
+    }
+    mechanism_check(boundary, &interior, dof_map, rigid)?;
+    let k_nn = sparse::submatrix(stiffness, &interior, &interior);
+    let m_nn = sparse::submatrix(mass, &interior, &interior);
+    let hook = progress::global();
+    let t = std::time::Instant::now();
+    hook.report(&Stage::Ordering {
+        equations: interior.len(),
+    });
+    let pencil = ShiftedPencil::analyze(&k_nn, &m_nn, Ordering::Auto)?;
+    hook.report(&Stage::Analyzed {
+        factor_len: pencil.factor_len(),
+        seconds: t.elapsed().as_secs_f64(),
+    });
+    let t = std::time::Instant::now();
+    hook.report(&Stage::Factorization { shift: 0.0 });
+    let mechanism = |row: usize| ReduceError::Mechanism {
+        interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
+        free: vec![dof_map.dof(interior[row])],
+    };
+    let k_factor = pencil.factorize(0.0).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => mechanism(index),
+        other => other.into(),
+    })?;
+    if let Some(row) = k_factor.tiny_pivot() {
+        return Err(mechanism(row));
+    }
+    hook.report(&Stage::Factorized {
+        shift: 0.0,
+        seconds: t.elapsed().as_secs_f64(),
+    });
+    let k_nh = sparse::submatrix(stiffness, &interior, boundary);
+    let mut u_n = -k_nh.to_dense();
+    hook.report(&Stage::Solves {
+        columns: boundary.len(),
+    });
+    k_factor.solve_in_place(u_n.as_mut());
+    let psi = constraint_columns(n, boundary, &interior, &u_n);
+    let wanted = match band {
+        Band::Lowest(count) => Wanted::Lowest(count),
+        Band::BelowHz(f) => Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
+    };
+    let params = LanczosParams {
+        shift: Some(0.0),
+        ..Default::default()
+    };
+    let found = lanczos_on(&pencil, Some(k_factor), wanted, &params, &*hook)?;
+    if let Band::Lowest(count) = band {
+        if found.pairs.values.len() < count {
+            return Err(ReduceError::NotEnoughModes {
+                requested: count,
+                available: found.pairs.values.len(),
+            });
+        }
+    }
+    let phi = EigenModes {
+        vectors: expand(&found.pairs.vectors, &interior, n),
+        values: found.pairs.values,
+    };
+    Ok((psi, phi))
+}
