@@ -23,37 +23,39 @@ pub struct Orthonormalized {
 /// columns is dropped (as is a column of zero M-norm).
 pub fn m_orthonormalize(x: MatRef<'_, f64>, m: &SparseMat, drop_tolerance: f64) -> Orthonormalized {
     let n = x.nrows();
-    let mut kept_cols: Vec<Mat<f64>> = Vec::new();
+    // One (parallel) product with M for all columns; Gram-Schmidt then
+    // updates each column and its M-image together.
+    let mx = crate::sparse::symmetric_mul(m, x);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+    let mut kept_cols: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     let mut kept = Vec::new();
     for j in 0..x.ncols() {
-        let mut v = x.col(j).to_owned().as_mat().to_owned();
-        let original = m_norm(&v, m);
+        let mut v: Vec<f64> = (0..n).map(|i| x[(i, j)]).collect();
+        let mut mv: Vec<f64> = (0..n).map(|i| mx[(i, j)]).collect();
+        let original = dot(&v, &mv).max(0.0).sqrt();
         if original == 0.0 || !original.is_finite() {
             continue;
         }
         for _pass in 0..2 {
-            let mv = m * &v;
-            for q in &kept_cols {
-                let c = (q.transpose() * &mv)[(0, 0)];
-                v -= q * faer::Scale(c);
+            for (q, mq) in &kept_cols {
+                let c = dot(q, &mv);
+                for i in 0..n {
+                    v[i] -= c * q[i];
+                    mv[i] -= c * mq[i];
+                }
             }
         }
-        let norm = m_norm(&v, m);
+        let norm = dot(&v, &mv).max(0.0).sqrt();
         if norm <= drop_tolerance * original {
             continue;
         }
-        v *= faer::Scale(1.0 / norm);
-        kept_cols.push(v);
+        v.iter_mut().for_each(|a| *a /= norm);
+        mv.iter_mut().for_each(|a| *a /= norm);
+        kept_cols.push((v, mv));
         kept.push(j);
     }
-    let vectors = Mat::from_fn(n, kept_cols.len(), |i, j| kept_cols[j][(i, 0)]);
+    let vectors = Mat::from_fn(n, kept_cols.len(), |i, j| kept_cols[j].0[i]);
     Orthonormalized { vectors, kept }
-}
-
-/// `sqrt(v^T M v)` of a single column.
-fn m_norm(v: &Mat<f64>, m: &SparseMat) -> f64 {
-    let mv = m * v;
-    (v.transpose() * &mv)[(0, 0)].max(0.0).sqrt()
 }
 
 #[cfg(test)]

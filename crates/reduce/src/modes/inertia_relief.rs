@@ -66,9 +66,11 @@ pub fn statically_determinate_support(rigid: &RigidModes, preferred: &[usize]) -
         take(i, &mut basis, &mut chosen);
     }
     while chosen.len() < nr {
-        let best = (0..m).filter(|i| !chosen.contains(i)).max_by(|&a, &b| {
-            norm(&residual(&basis, row(a))).total_cmp(&norm(&residual(&basis, row(b))))
-        });
+        let best = (0..m)
+            .filter(|i| !chosen.contains(i))
+            .map(|i| (norm(&residual(&basis, row(i))), i))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, i)| i);
         match best {
             Some(i) if take(i, &mut basis, &mut chosen) => {}
             _ => break,

@@ -79,7 +79,7 @@ pub fn strain_energy_ratio(stiffness: &SparseMat, rigid: &RigidModes) -> f64 {
     if rigid.count() == 0 {
         return 0.0;
     }
-    let kt = stiffness * &rigid.vectors;
+    let kt = flexbody_linalg::sparse::symmetric_mul(stiffness, rigid.vectors.as_ref());
     let k_max = flexbody_linalg::sparse::max_abs_diagonal(stiffness);
     let t_max = rigid.vectors.norm_max();
     if k_max == 0.0 || t_max == 0.0 {
