@@ -567,10 +567,12 @@ fn rotate_in_place(v: &mut Mat<f64>, e: usize, y: MatRef<'_, f64>) {
 }
 
 /// M-orthonormalises the columns of `w` (with `mw = M w`) in place by
-/// Gram-Schmidt twice; returns the upper-triangular `B` with `W_in = Q B`.
-/// A column that vanishes (`<= 1e-10` of `before`, its M-norm before the
-/// projection on the basis) is replaced by a random vector orthogonal to
-/// `locked`, `basis` and the earlier columns, with a zero column in `B`.
+/// Cholesky QR twice, or by Gram-Schmidt twice when the block is too
+/// ill-conditioned for that; returns the upper-triangular `B` with
+/// `W_in = Q B`. A column that vanishes against the earlier ones (to 1e-10
+/// of `before`, its M-norm before the projection on the basis) is replaced
+/// by a random vector orthogonal to `locked`, the basis and the earlier
+/// columns, which enters `B` with a zero diagonal entry.
 fn orthonormalize_block(
     w: &mut Mat<f64>,
     mw: &mut Mat<f64>,
@@ -694,9 +696,8 @@ fn gram_schmidt_block(
             w[(p, i)] = z[(p, 0)] / norm;
             mw[(p, i)] = mz[(p, 0)] / norm;
         }
-        for j in 0..i {
-            r[(j, i)] = 0.0;
-        }
+        // Column i of W was a combination of the earlier columns (their
+        // coefficients stay in B); the new direction enters with 0.
     }
     r
 }

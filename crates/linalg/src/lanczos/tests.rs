@@ -219,3 +219,44 @@ fn a_hinge_shows_nine_zero_modes() {
     assert_eq!(zero, 9, "{v:?}");
     assert_same(v, &dense(&k, &m)[..12], 1e-10);
 }
+
+/// `Q^T M Q = I` and `Q B = W` for the block orthonormalisation, on a
+/// well-conditioned block (Cholesky QR) and on one with a repeated column
+/// (the Gram-Schmidt fallback, which keeps its coefficients on the earlier
+/// columns in `B` and continues with a fresh direction, diagonal 0).
+#[test]
+fn block_orthonormalisation_in_the_m_inner_product() {
+    let (_, m) = lattice(4, 3, 3, true, false);
+    let n = m.nrows();
+    let mut rng = Rng(7);
+    let good = Mat::from_fn(n, 4, |_, _| rng.next());
+    let mut repeated = good.clone();
+    let first = good.col(0).to_owned();
+    repeated.col_mut(2).copy_from(&first);
+    for (w0, dependent) in [(good, false), (repeated, true)] {
+        let mut w = w0.clone();
+        let mut mw = symmetric_mul(&m, w.as_ref());
+        let before: Vec<f64> = (0..4).map(|j| dot(w.col(j), mw.col(j)).sqrt()).collect();
+        let none = Mat::<f64>::zeros(n, 0);
+        let b = orthonormalize_block(
+            &mut w,
+            &mut mw,
+            &before,
+            &[(none.as_ref(), none.as_ref())],
+            &m,
+            &mut rng,
+        );
+        let g = w.transpose() * symmetric_mul(&m, w.as_ref());
+        assert!(
+            (&g - Mat::<f64>::identity(4, 4)).norm_max() < 1e-12,
+            "{dependent}"
+        );
+        assert!(
+            (&w * &b - &w0).norm_max() < 1e-12 * w0.norm_max(),
+            "{dependent}"
+        );
+        let mw_exact = symmetric_mul(&m, w.as_ref());
+        assert!((&mw - &mw_exact).norm_max() < 1e-12 * mw_exact.norm_max());
+        assert_eq!(b[(2, 2)] == 0.0, dependent);
+    }
+}
