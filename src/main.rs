@@ -139,8 +139,12 @@ enum Command {
         #[command(flatten)]
         matrices: MatrixArgs,
         /// Number of modes, lowest first.
-        #[arg(long, default_value_t = 10)]
+        #[arg(long, default_value_t = 10, conflicts_with = "fmax")]
         count: usize,
+        /// Instead of --count: every mode below this frequency (Hz), counted
+        /// by the Sturm sequence.
+        #[arg(long)]
+        fmax: Option<f64>,
         /// Print {"dofs":..,"frequencies_hz":[..],"residuals":[..]}.
         #[arg(long)]
         json: bool,
@@ -341,8 +345,16 @@ fn run(cli: Cli) -> Result<()> {
             model,
             matrices,
             count,
+            fmax,
             json,
-        } => run_modes(&model, &matrices, count, json),
+        } => {
+            let band = match fmax {
+                Some(f) if f.is_finite() && f > 0.0 => red::modes::Band::BelowHz(f),
+                Some(f) => anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}"),
+                None => red::modes::Band::Lowest(count),
+            };
+            run_modes(&model, &matrices, band, json)
+        }
         Command::Info { model, matrices } => run_info(&model, &matrices),
         Command::Inspect { body } => {
             say!("{}", export::read_any(&body)?.summary());
@@ -593,11 +605,20 @@ fn run_reduce(
 /// full model's frequencies (the comparison is one more eigen solve).
 const CHECK_UP_TO: usize = 20_000;
 
-fn run_modes(model: &Path, matrices: &MatrixArgs, count: usize, json: bool) -> Result<()> {
+fn run_modes(
+    model: &Path,
+    matrices: &MatrixArgs,
+    band: red::modes::Band,
+    json: bool,
+) -> Result<()> {
     let c = load(model, matrices)?;
     let matrices = &c.sub.matrices;
     let n = c.sub.len();
-    let modes = red::modes::eigenmodes(&matrices.stiffness, &matrices.mass, count.min(n))?;
+    let band = match band {
+        red::modes::Band::Lowest(count) => red::modes::Band::Lowest(count.min(n)),
+        other => other,
+    };
+    let modes = red::modes::eigenmodes_in(&matrices.stiffness, &matrices.mass, band)?;
     // ||K phi - lambda M phi|| / ||K phi||; for rigid-body modes, whose K phi
     // is itself round-off, relative to ||K|| ||phi|| instead.
     let residuals = flexbody::linalg::lanczos::residuals(

@@ -329,3 +329,35 @@ fn a_closed_stdout_ends_the_program_quietly() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     assert_eq!(out.status.code(), Some(0));
 }
+
+#[test]
+fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
+    // The solid side beam (1668 DOFs, the sparse solver): --fmax 700 Hz
+    // gives exactly the modes of --count 12 that lie below 700 Hz.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let run = |extra: &[&str]| -> Vec<f64> {
+        let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
+        args.extend_from_slice(extra);
+        let o = flexbody(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        serde_json::from_value(doc["frequencies_hz"].clone()).unwrap()
+    };
+    let lowest = run(&["--count", "12"]);
+    let band = run(&["--fmax", "700"]);
+    let below: Vec<f64> = lowest.iter().copied().filter(|f| *f < 700.0).collect();
+    assert!(below.len() > 6 && below.len() < 12, "{lowest:?}");
+    assert_eq!(band.len(), below.len());
+    for (a, b) in band.iter().zip(&below) {
+        if *b < 1.0 {
+            // Rigid-body modes: round-off frequencies.
+            assert!(*a < 1e-2, "{a} vs {b}");
+        } else {
+            assert!((a - b).abs() <= 1e-9 * b, "{a} vs {b}");
+        }
+    }
+    let o = flexbody(&["modes", model.to_str().unwrap(), "--fmax=-3"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--fmax must be a positive frequency"));
+}
