@@ -202,7 +202,7 @@ pub fn lanczos_on(
         .shift
         .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE));
     let (factor, spare) = match factor {
-        Some(f) if f.shift() == sigma => (Some(f), Vec::new()),
+        Some(f) if !f.is_fixed() && f.shift() == sigma => (Some(f), Vec::new()),
         Some(f) => (None, f.into_storage()),
         None => (None, Vec::new()),
     };

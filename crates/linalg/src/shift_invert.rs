@@ -46,6 +46,8 @@ pub struct ShiftedFactor {
     shift: f64,
     signs: PivotSigns,
     tiny_pivot: Option<usize>,
+    /// A factor of `K` with fixed equations ([`ShiftedPencil::factorize_fixed`]).
+    fixed: bool,
 }
 
 /// A pivot at most this fraction of its row's diagonal entry counts as
@@ -123,24 +125,42 @@ impl<'a> ShiftedPencil<'a> {
 
     /// The lower triangle of `K - sigma M` on the union pattern, columns in
     /// parallel.
-    fn shifted_values(&self, sigma: f64) -> Vec<f64> {
+    fn shifted_values(&self, sigma: f64, fixed: Option<&[bool]>) -> Vec<f64> {
         let mut a = vec![0.0; self.row_idx.len()];
-        self.fill_columns(0..self.dim(), sigma, &mut a);
+        self.fill_columns(0..self.dim(), sigma, fixed, &mut a);
+        if let Some(fixed) = fixed {
+            // A fixed equation keeps its diagonal only (1 where K has none).
+            for j in (0..self.dim()).filter(|&j| fixed[j]) {
+                let d = &mut a[self.col_ptr[j]];
+                if *d == 0.0 {
+                    *d = 1.0;
+                }
+            }
+        }
         a
     }
 
     /// Fills columns `cols` of `K - sigma M` into `out` (their values),
     /// splitting the range between threads.
-    fn fill_columns(&self, cols: std::ops::Range<usize>, sigma: f64, out: &mut [f64]) {
+    /// The entries in a row or column of a `fixed` equation are left out,
+    /// but its diagonal.
+    fn fill_columns(
+        &self,
+        cols: std::ops::Range<usize>,
+        sigma: f64,
+        fixed: Option<&[bool]>,
+        out: &mut [f64],
+    ) {
         if cols.len() > 4096 {
             let mid = cols.start + cols.len() / 2;
             let (left, right) = out.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
             rayon::join(
-                || self.fill_columns(cols.start..mid, sigma, left),
-                || self.fill_columns(mid..cols.end, sigma, right),
+                || self.fill_columns(cols.start..mid, sigma, fixed, left),
+                || self.fill_columns(mid..cols.end, sigma, fixed, right),
             );
             return;
         }
+        let is_fixed = |i: usize| fixed.is_some_and(|f| f[i]);
         let base = self.col_ptr[cols.start];
         for j in cols {
             let range = self.col_ptr[j]..self.col_ptr[j + 1];
@@ -151,7 +171,7 @@ impl<'a> ShiftedPencil<'a> {
                 // with a binary search for an unsorted input.
                 let mut p = 0;
                 for (i, v) in matrix.row_idx_of_col(j).zip(matrix.val_of_col(j)) {
-                    if i < j {
+                    if i < j || (i != j && (is_fixed(i) || is_fixed(j))) {
                         continue;
                     }
                     while p < col.len() && col[p] < i {
@@ -178,13 +198,35 @@ impl<'a> ShiftedPencil<'a> {
     /// [`Self::factorize`] into the storage of a factor that is no longer
     /// needed (the factor of a previous shift): the Sturm check of a large
     /// model then holds one factor in memory, not two.
-    pub fn refactorize(
+    pub fn refactorize(&self, sigma: f64, values: Vec<f64>) -> Result<ShiftedFactor, LinalgError> {
+        self.factorize_values(sigma, None, values)
+    }
+
+    /// The `LDL^T` of `K` with the equations `fixed` held at zero: their
+    /// rows and columns decoupled (diagonal kept), on the pencil's own
+    /// analysis. Solving with zero right-hand sides there gives the static
+    /// response of the body supported at `fixed` (the inertia-relief
+    /// attachment modes' statically determinate support), without a
+    /// sub-matrix or a second ordering. The factor's storage can then go
+    /// to [`crate::lanczos::lanczos_on`].
+    pub fn factorize_fixed(&self, fixed: &[usize]) -> Result<ShiftedFactor, LinalgError> {
+        let mut mask = vec![false; self.dim()];
+        for &i in fixed {
+            mask[i] = true;
+        }
+        let mut f = self.factorize_values(0.0, Some(&mask), Vec::new())?;
+        f.fixed = true;
+        Ok(f)
+    }
+
+    fn factorize_values(
         &self,
         sigma: f64,
+        fixed: Option<&[bool]>,
         mut values: Vec<f64>,
     ) -> Result<ShiftedFactor, LinalgError> {
         let n = self.dim();
-        let a = self.shifted_values(sigma);
+        let a = self.shifted_values(sigma, fixed);
         // The first entry of each lower column is its diagonal.
         let diagonal: Vec<f64> = (0..n).map(|j| a[self.col_ptr[j]]).collect();
         let pattern =
@@ -232,6 +274,7 @@ impl<'a> ShiftedPencil<'a> {
             shift: sigma,
             signs,
             tiny_pivot,
+            fixed: false,
         })
     }
 }
@@ -261,6 +304,12 @@ impl ShiftedFactor {
     /// elimination tree).
     pub fn solve_in_place(&self, x: MatMut<'_, f64>) {
         self.symbolic.solve_in_place(&self.values, x);
+    }
+
+    /// Whether this factors `K` with fixed equations rather than
+    /// `K - sigma M` ([`ShiftedPencil::factorize_fixed`]).
+    pub fn is_fixed(&self) -> bool {
+        self.fixed
     }
 
     /// The factor's storage, for [`ShiftedPencil::refactorize`].

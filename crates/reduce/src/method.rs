@@ -16,7 +16,7 @@
 use crate::body::{ModeKind, ReducedBody};
 use crate::modes::{
     self, constraint_modes, craig_bampton_modes, eigenmodes, eigenmodes_in,
-    inertia_relief_attachment_modes, residual_modes, rigid_body_modes,
+    inertia_relief_and_free_modes, residual_modes, rigid_body_modes,
     statically_determinate_support, unit_loads, Band, RigidModes,
 };
 use crate::ReduceError;
@@ -220,15 +220,8 @@ pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, Reduc
             } else {
                 group_loads(sub, &spec.force_groups)?
             };
-            let t_a = inertia_relief_attachment_modes(k, m, &rigid, &loads, &support, map)?;
-            // At least one elastic mode, for the gap check.
-            let all = match band(nr) {
-                Band::Lowest(count) => eigenmodes(k, m, count.max(nr + 1).min(map.len()))?,
-                within => match eigenmodes_in(k, m, within)? {
-                    all if all.values.len() > nr => all,
-                    _ => eigenmodes(k, m, (nr + 1).min(map.len()))?.slice(0, nr),
-                },
-            };
+            let (t_a, all) =
+                inertia_relief_and_free_modes(k, m, &rigid, &loads, &support, map, band(nr))?;
             check_gap(&all.values, nr)?;
             let e = match band(nr) {
                 Band::Lowest(_) => spec.modes,

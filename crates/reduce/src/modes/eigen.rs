@@ -17,7 +17,8 @@ use super::{complement, expand};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
-use flexbody_linalg::lanczos::{lanczos, LanczosParams, Wanted};
+use flexbody_linalg::lanczos::{lanczos, lanczos_on, LanczosParams, Wanted};
+use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, SparseMat};
 
 /// Largest model the dense eigen path accepts.
@@ -155,6 +156,36 @@ pub fn eigenmodes_with(
         values: pairs.values[..count].to_vec(),
         vectors: pairs.vectors.subcols(0, count).to_owned(),
     })
+}
+
+/// The eigenpairs of `band` by the Lanczos solver on a pencil the caller
+/// has analysed (and may have used for static modes): `factor`, a factor
+/// of it no longer needed, becomes the operator or lends its storage.
+pub fn eigenmodes_on(
+    pencil: &ShiftedPencil<'_>,
+    factor: Option<ShiftedFactor>,
+    band: Band,
+    shift: Option<f64>,
+) -> Result<EigenModes, ReduceError> {
+    let wanted = match band {
+        Band::Lowest(count) => Wanted::Lowest(count),
+        Band::BelowHz(f) => Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
+    };
+    let params = LanczosParams {
+        shift,
+        ..Default::default()
+    };
+    let progress = flexbody_linalg::progress::global();
+    let found = lanczos_on(pencil, factor, wanted, &params, &*progress)?;
+    if let Band::Lowest(count) = band {
+        if found.pairs.values.len() < count {
+            return Err(ReduceError::NotEnoughModes {
+                requested: count,
+                available: found.pairs.values.len(),
+            });
+        }
+    }
+    Ok(found.pairs)
 }
 
 /// Eigenmodes of the body held at the `boundary` equations (zero there).

@@ -9,12 +9,11 @@
 //! two. Small models take the separate dense path.
 
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
-use super::eigen::{fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
+use super::eigen::{eigenmodes_on, fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
 use super::{complement, expand, EigenModes, RigidModes};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
-use flexbody_linalg::lanczos::{lanczos_on, LanczosParams, Wanted};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::ShiftedPencil;
@@ -75,26 +74,10 @@ pub fn craig_bampton_modes(
     });
     k_factor.solve_in_place(u_n.as_mut());
     let psi = constraint_columns(n, boundary, &interior, &u_n);
-    let wanted = match band {
-        Band::Lowest(count) => Wanted::Lowest(count),
-        Band::BelowHz(f) => Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
-    };
-    let params = LanczosParams {
-        shift: Some(0.0),
-        ..Default::default()
-    };
-    let found = lanczos_on(&pencil, Some(k_factor), wanted, &params, &*hook)?;
-    if let Band::Lowest(count) = band {
-        if found.pairs.values.len() < count {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: found.pairs.values.len(),
-            });
-        }
-    }
+    let found = eigenmodes_on(&pencil, Some(k_factor), band, Some(0.0))?;
     let phi = EigenModes {
-        vectors: expand(&found.pairs.vectors, &interior, n),
-        values: found.pairs.values,
+        vectors: expand(&found.vectors, &interior, n),
+        values: found.values,
     };
     Ok((psi, phi))
 }

@@ -119,19 +119,35 @@ pub fn inertia_relief_attachment_modes(
     }
     check_support(rigid, support, dof_map)?;
     let n = stiffness.nrows();
-    let p_g = self_equilibrated_loads(mass, rigid, loads);
     let free = complement(support, n);
     let k_ff = sparse::submatrix(stiffness, &free, &free);
     let ldlt = Ldlt::factorize(&k_ff).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Singular {
-            what: "the stiffness matrix on the statically determinate support",
+            what: SUPPORTED,
             dof: dof_map.dof(free[index]),
         },
         other => other.into(),
     })?;
-    let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
-    let x = expand(&ldlt.solve(rhs.as_ref()), &free, n);
-    // t = G x = x - T_st (T_st^T M x).
+    relieved_modes(mass, rigid, loads, |p_g| {
+        let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
+        expand(&ldlt.solve(rhs.as_ref()), &free, n)
+    })
+}
+
+/// What a singular stiffness on the support is called in errors.
+pub(crate) const SUPPORTED: &str = "the stiffness matrix on the statically determinate support";
+
+/// Eq. 20 around a solver of the supported body: `solve(P_g)` returns `x`
+/// with `K x = P_g` on the free equations and `x = 0` on the support; the
+/// result is `G x = x - T_st (T_st^T M x)`.
+pub(crate) fn relieved_modes(
+    mass: &SparseMat,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+    solve: impl FnOnce(Mat<f64>) -> Mat<f64>,
+) -> Result<Mat<f64>, ReduceError> {
+    let p_g = self_equilibrated_loads(mass, rigid, loads);
+    let x = solve(p_g);
     let t = &rigid.vectors;
     let mx = sparse::symmetric_mul(mass, x.as_ref());
     let c = t.transpose() * &mx;

@@ -4,6 +4,7 @@ pub mod attachment;
 pub mod constraint;
 pub mod eigen;
 pub mod fixed_interface;
+pub mod free_interface;
 pub mod inertia_relief;
 pub mod residual;
 pub mod rigid;
@@ -15,6 +16,7 @@ pub use eigen::{
     EigenModes, DENSE_LIMIT,
 };
 pub use fixed_interface::craig_bampton_modes;
+pub use free_interface::inertia_relief_and_free_modes;
 pub use inertia_relief::{
     inertia_relief_attachment_modes, self_equilibrated_loads, statically_determinate_support,
 };

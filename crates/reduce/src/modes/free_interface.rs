@@ -1,0 +1,94 @@
+//! The free-residual method's two mode sets (report 6.6) from one
+//! analysis: the inertia-relief attachment modes (eq. 18-20) and the free
+//! eigenmodes.
+//!
+//! On a large model both come from the pencil of `K - sigma M`: its
+//! ordering and symbolic analysis serve the factorisation of `K` held on
+//! the statically determinate support (those rows and columns decoupled,
+//! same pattern) and then the Lanczos solver, which reuses that factor's
+//! storage. Small models take the separate dense path.
+
+use super::eigen::{eigenmodes, eigenmodes_in, eigenmodes_on, Band, SPARSE_FROM};
+use super::inertia_relief::{
+    check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
+};
+use super::{EigenModes, RigidModes};
+use crate::ReduceError;
+use faer::Mat;
+use flexbody_fem::DofMap;
+use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::{LinalgError, SparseMat};
+
+/// The inertia-relief attachment modes of `loads` on `support`, and the
+/// free eigenmodes of `band` (rigid-body modes included) with at least
+/// one elastic mode beyond the rigid ones, for the gap check.
+pub fn inertia_relief_and_free_modes(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+    support: &[usize],
+    dof_map: &DofMap,
+    band: Band,
+) -> Result<(Mat<f64>, EigenModes), ReduceError> {
+    let (n, nr) = (stiffness.nrows(), rigid.count());
+    let at_least = |band: Band| match band {
+        Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
+        within => within,
+    };
+    let enough = |all: EigenModes| -> Result<EigenModes, ReduceError> {
+        if all.values.len() > nr || all.values.len() >= n {
+            Ok(all)
+        } else {
+            // A band without elastic modes: the gap check needs one.
+            Ok(eigenmodes(stiffness, mass, (nr + 1).min(n))?.slice(0, nr))
+        }
+    };
+    if n < SPARSE_FROM || nr == 0 {
+        let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)?;
+        let all = enough(eigenmodes_in(stiffness, mass, at_least(band))?)?;
+        return Ok((t_a, all));
+    }
+    check_support(rigid, support, dof_map)?;
+    let hook = progress::global();
+    let t = std::time::Instant::now();
+    hook.report(&Stage::Ordering { equations: n });
+    let pencil = ShiftedPencil::analyze(stiffness, mass, Ordering::Auto)?;
+    hook.report(&Stage::Analyzed {
+        factor_len: pencil.factor_len(),
+        seconds: t.elapsed().as_secs_f64(),
+    });
+    let t = std::time::Instant::now();
+    hook.report(&Stage::Factorization { shift: 0.0 });
+    let singular = |row: usize| ReduceError::Singular {
+        what: SUPPORTED,
+        dof: dof_map.dof(row),
+    };
+    let held = pencil.factorize_fixed(support).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => singular(index),
+        other => other.into(),
+    })?;
+    if let Some(row) = held.tiny_pivot() {
+        return Err(singular(row));
+    }
+    hook.report(&Stage::Factorized {
+        shift: 0.0,
+        seconds: t.elapsed().as_secs_f64(),
+    });
+    hook.report(&Stage::Solves {
+        columns: loads.ncols(),
+    });
+    let t_a = relieved_modes(mass, rigid, loads, |mut p_g| {
+        for &i in support {
+            for j in 0..p_g.ncols() {
+                p_g[(i, j)] = 0.0;
+            }
+        }
+        held.solve_in_place(p_g.as_mut());
+        p_g
+    })?;
+    let all = enough(eigenmodes_on(&pencil, Some(held), at_least(band), None)?)?;
+    Ok((t_a, all))
+}
