@@ -82,7 +82,7 @@ impl Default for LanczosParams {
         Self {
             block_size: 8,
             basis_size: 0,
-            tolerance: 1e-10,
+            tolerance: 1e-12,
             shift: None,
             max_steps: 1000,
             sturm_check: true,
