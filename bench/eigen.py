@@ -93,14 +93,9 @@ def read(path, n=None):
 eq = [line.split()[0].split(".") for line in open(job + ".dof") if line.strip()]
 order = [int(n) for n, d in eq[::3]]
 assert [int(d) for n, d in eq] == [1, 2, 3] * len(order), "3 DOFs per node expected"
-xyz, on = {}, False
-for line in open(deck):
-    if line.startswith("*"):
-        on = line.upper().startswith("*NODE")
-        continue
-    if on:
-        p = line.split(",")
-        xyz[int(p[0])] = [float(x) for x in p[1:4]]
+sys.path.insert(0, sys.argv[4])
+from eigen import read_nodes
+xyz = read_nodes(deck)
 index = {n: i for i, n in enumerate(order)}
 fem = F.FEMinterface()
 fem.nodes = {"Position": np.array([xyz[n] for n in order])}
@@ -149,8 +144,8 @@ def floor_seconds(log):
     return None
 
 
-def corner_nodes(deck):
-    """The 4 corner nodes of the end face x = 0 (12 DOFs)."""
+def read_nodes(deck):
+    """Node number -> (x, y, z) from the *NODE cards of a generated deck."""
     xyz, on = {}, False
     for line in open(deck):
         if line.startswith("*"):
@@ -159,6 +154,12 @@ def corner_nodes(deck):
         if on:
             p = line.split(",")
             xyz[int(p[0])] = tuple(float(x) for x in p[1:4])
+    return xyz
+
+
+def corner_nodes(deck):
+    """The 4 corner nodes of the end face x = 0 (12 DOFs)."""
+    xyz = read_nodes(deck)
     face = [(n, p) for n, p in xyz.items() if abs(p[0]) < 1e-12]
     ys = [p[1] for _, p in face]
     zs = [p[2] for _, p in face]
@@ -258,7 +259,8 @@ def main():
         if "exudyn" not in skip and cb_hz:
             if not os.path.exists(os.path.join(a.work, base + "_k.sti")):
                 subprocess.run(["ccx", "-i", base + "_k"], cwd=a.work, env=ENV, check=True, capture_output=True)
-            r = measured([sys.executable, "-c", EXUDYN, base + "_k", base + ".inp", iface], a.work)
+            r = measured([sys.executable, "-c", EXUDYN, base + "_k", base + ".inp", iface,
+                          os.path.join(ROOT, "bench")], a.work)
             if r:
                 d = json.loads(r[2].strip().splitlines()[-1])
                 rows.append(("exudyn HCB", r[0], r[1], agree("reduced CB", d["hz"], cb_hz, least=26)

@@ -158,15 +158,8 @@ pub fn lanczos(
     progress: &dyn Progress,
 ) -> Result<SparseEigen, LinalgError> {
     let t = Instant::now();
-    progress.report(&Stage::Ordering {
-        equations: k.nrows(),
-    });
-    let pencil = ShiftedPencil::analyze(k, m, params.ordering)?;
+    let pencil = ShiftedPencil::analyze_reporting(k, m, params.ordering, progress)?;
     let seconds = t.elapsed().as_secs_f64();
-    progress.report(&Stage::Analyzed {
-        factor_len: pencil.factor_len(),
-        seconds,
-    });
     let mut found = lanczos_on(&pencil, None, wanted, params, progress)?;
     found.stats.analysis_seconds = seconds;
     Ok(found)

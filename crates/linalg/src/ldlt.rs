@@ -169,10 +169,18 @@ impl SymbolicLdlt {
     pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
         let sym = &*self.inner;
         if let (Some(plan), SymbolicCholeskyRaw::Supernodal(s)) = (&self.plan, sym.raw()) {
-            let forward = self.forward();
-            let mut y = permute_rows(x.as_ref(), &forward);
+            // No copy of the permutation on this hot path.
+            let identity: Vec<usize>;
+            let forward = match sym.perm() {
+                Some(p) => p.arrays().0,
+                None => {
+                    identity = (0..self.dim()).collect();
+                    &identity
+                }
+            };
+            let mut y = permute_rows(x.as_ref(), forward);
             plan.solve_in_place(SupernodalLdltRef::new(s, values), y.as_mut());
-            unpermute_rows(y.as_ref(), &forward, x);
+            unpermute_rows(y.as_ref(), forward, x);
             return;
         }
         let par = faer::get_global_parallelism();

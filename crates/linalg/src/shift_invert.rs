@@ -14,6 +14,7 @@
 
 use crate::ldlt::SymbolicLdlt;
 use crate::ordering::Ordering;
+use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::MatMut;
@@ -45,13 +46,16 @@ pub struct ShiftedFactor {
     values: Vec<f64>,
     shift: f64,
     signs: PivotSigns,
+    /// The first row (elimination order) whose pivot is round-off against
+    /// its diagonal; an error for [`ShiftedPencil::factorize_static`], legitimate
+    /// in a shifted, indefinite matrix.
     tiny_pivot: Option<usize>,
-    /// A factor of `K` with fixed equations ([`ShiftedPencil::factorize_fixed`]).
+    /// A factor of `K` with fixed equations ([`ShiftedPencil::factorize_static`]).
     fixed: bool,
 }
 
 /// A pivot at most this fraction of its row's diagonal entry counts as
-/// vanished for [`ShiftedFactor::tiny_pivot`] (as in [`crate::ldlt::LdltParams`]).
+/// vanished for [`ShiftedPencil::factorize_static`] (as in [`crate::ldlt::LdltParams`]).
 const TINY_PIVOT: f64 = 1e-11;
 
 impl<'a> ShiftedPencil<'a> {
@@ -202,20 +206,63 @@ impl<'a> ShiftedPencil<'a> {
         self.factorize_values(sigma, None, values)
     }
 
-    /// The `LDL^T` of `K` with the equations `fixed` held at zero: their
-    /// rows and columns decoupled (diagonal kept), on the pencil's own
-    /// analysis. Solving with zero right-hand sides there gives the static
-    /// response of the body supported at `fixed` (the inertia-relief
-    /// attachment modes' statically determinate support), without a
-    /// sub-matrix or a second ordering. The factor's storage can then go
-    /// to [`crate::lanczos::lanczos_on`].
-    pub fn factorize_fixed(&self, fixed: &[usize]) -> Result<ShiftedFactor, LinalgError> {
-        let mut mask = vec![false; self.dim()];
-        for &i in fixed {
-            mask[i] = true;
+    /// [`Self::analyze`], reporting the ordering and analysis to `progress`.
+    pub fn analyze_reporting(
+        k: &'a SparseMat,
+        m: &'a SparseMat,
+        ordering: Ordering,
+        progress: &dyn Progress,
+    ) -> Result<Self, LinalgError> {
+        let t = std::time::Instant::now();
+        progress.report(&Stage::Ordering {
+            equations: k.nrows(),
+        });
+        let pencil = Self::analyze(k, m, ordering)?;
+        progress.report(&Stage::Analyzed {
+            factor_len: pencil.factor_len(),
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        Ok(pencil)
+    }
+
+    /// The `LDL^T` of `K` for static modes, with the equations `fixed` (may
+    /// be none) held at zero: their rows and columns decoupled (diagonal
+    /// kept), on the pencil's own analysis. Solving with zero right-hand
+    /// sides there gives the static response of the body supported at
+    /// `fixed` (the inertia-relief attachment modes' statically determinate
+    /// support) without a sub-matrix or a second ordering. `K` must be
+    /// regular there: a pivot that vanishes against its diagonal is
+    /// [`LinalgError::Singular`] naming the row. Reported to `progress` as a
+    /// factorisation at shift 0. With nothing fixed the factor can serve as
+    /// the Lanczos operator at shift 0 ([`crate::lanczos::lanczos_on`]);
+    /// otherwise its storage is reused there.
+    pub fn factorize_static(
+        &self,
+        fixed: &[usize],
+        progress: &dyn Progress,
+    ) -> Result<ShiftedFactor, LinalgError> {
+        let t = std::time::Instant::now();
+        progress.report(&Stage::Factorization { shift: 0.0 });
+        let mask = (!fixed.is_empty()).then(|| {
+            let mut mask = vec![false; self.dim()];
+            for &i in fixed {
+                mask[i] = true;
+            }
+            mask
+        });
+        let mut f = self.factorize_values(0.0, mask.as_deref(), Vec::new())?;
+        if let Some(row) = f.tiny_pivot {
+            return Err(LinalgError::Singular {
+                index: row,
+                pivot: 0.0,
+                diagonal: 0.0,
+            });
         }
-        let mut f = self.factorize_values(0.0, Some(&mask), Vec::new())?;
-        f.fixed = true;
+        f.fixed = mask.is_some();
+        progress.report(&Stage::Factorized {
+            shift: 0.0,
+            seconds: t.elapsed().as_secs_f64(),
+        });
         Ok(f)
     }
 
@@ -290,15 +337,6 @@ impl ShiftedFactor {
         self.signs
     }
 
-    /// The first row (original order, in elimination order) whose pivot
-    /// is round-off against its diagonal entry: for a matrix that must be
-    /// regular (a stiffness matrix at shift 0), the DOF where it is
-    /// singular. Shifted, indefinite matrices may have such pivots
-    /// legitimately.
-    pub fn tiny_pivot(&self) -> Option<usize> {
-        self.tiny_pivot
-    }
-
     /// Solves `(K - sigma M) X = B` in place for a block of right-hand sides
     /// (one sweep through `L` for the whole block, in parallel over the
     /// elimination tree).
@@ -307,7 +345,7 @@ impl ShiftedFactor {
     }
 
     /// Whether this factors `K` with fixed equations rather than
-    /// `K - sigma M` ([`ShiftedPencil::factorize_fixed`]).
+    /// `K - sigma M` ([`ShiftedPencil::factorize_static`]).
     pub fn is_fixed(&self) -> bool {
         self.fixed
     }

@@ -296,6 +296,30 @@ fn kernel_par(factor: SupernodalLdltRef<'_, usize, f64>, s: usize) -> Par {
     }
 }
 
+/// What a step of supernode `s` works with: its unit lower-triangular
+/// diagonal block, the block below it, the rows of that block, and its
+/// first row within the view that starts at row `first`.
+struct Step<'f> {
+    diag: MatRef<'f, f64>,
+    below: MatRef<'f, f64>,
+    pattern: &'f [usize],
+    start: usize,
+}
+
+impl<'f> Step<'f> {
+    fn of(factor: SupernodalLdltRef<'f, usize, f64>, s: usize, first: usize) -> Self {
+        let node = factor.supernode(s);
+        let block = node.val();
+        let (diag, below) = block.split_at_row(block.ncols());
+        Step {
+            diag,
+            below,
+            pattern: node.pattern(),
+            start: node.start() - first,
+        }
+    }
+}
+
 /// Forward step of supernode `s`: `X_s = L_ss^-1 X_s`, then the rows of its
 /// pattern lose `L_ps X_s`.
 fn forward(
@@ -305,13 +329,13 @@ fn forward(
     tmp: &mut Mat<f64>,
     par: Par,
 ) {
-    let node = factor.supernode(s);
-    let block = node.val();
-    let size = block.ncols();
-    let pattern = node.pattern();
-    let (diag, below) = block.split_at_row(size);
-    let k = rows.local.ncols();
-    let start = node.start() - rows.first;
+    let Step {
+        diag,
+        below,
+        pattern,
+        start,
+    } = Step::of(factor, s, rows.first);
+    let (size, k) = (diag.ncols(), rows.local.ncols());
     let mut xs = rows.local.as_mut().subrows_mut(start, size);
     solve_unit_lower_triangular_in_place(diag, xs.as_mut(), par);
     if pattern.is_empty() {
@@ -338,13 +362,13 @@ fn backward(
     tmp: &mut Mat<f64>,
     par: Par,
 ) {
-    let node = factor.supernode(s);
-    let block = node.val();
-    let size = block.ncols();
-    let pattern = node.pattern();
-    let (diag, below) = block.split_at_row(size);
-    let k = rows.local.ncols();
-    let start = node.start() - rows.first;
+    let Step {
+        diag,
+        below,
+        pattern,
+        start,
+    } = Step::of(factor, s, rows.first);
+    let (size, k) = (diag.ncols(), rows.local.ncols());
     if !pattern.is_empty() {
         let mut t = tmp.as_mut().subrows_mut(0, pattern.len());
         for c in 0..k {

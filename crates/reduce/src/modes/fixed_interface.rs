@@ -41,32 +41,14 @@ pub fn craig_bampton_modes(
     let k_nn = sparse::submatrix(stiffness, &interior, &interior);
     let m_nn = sparse::submatrix(mass, &interior, &interior);
     let hook = progress::global();
-    let t = std::time::Instant::now();
-    hook.report(&Stage::Ordering {
-        equations: interior.len(),
-    });
-    let pencil = ShiftedPencil::analyze(&k_nn, &m_nn, Ordering::Auto)?;
-    hook.report(&Stage::Analyzed {
-        factor_len: pencil.factor_len(),
-        seconds: t.elapsed().as_secs_f64(),
-    });
-    let t = std::time::Instant::now();
-    hook.report(&Stage::Factorization { shift: 0.0 });
-    let mechanism = |row: usize| ReduceError::Mechanism {
-        interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
-        free: vec![dof_map.dof(interior[row])],
-    };
-    let k_factor = pencil.factorize(0.0).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => mechanism(index),
+    let pencil = ShiftedPencil::analyze_reporting(&k_nn, &m_nn, Ordering::Auto, &*hook)?;
+    let k_factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
+        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
+            interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
+            free: vec![dof_map.dof(interior[index])],
+        },
         other => other.into(),
     })?;
-    if let Some(row) = k_factor.tiny_pivot() {
-        return Err(mechanism(row));
-    }
-    hook.report(&Stage::Factorized {
-        shift: 0.0,
-        seconds: t.elapsed().as_secs_f64(),
-    });
     let k_nh = sparse::submatrix(stiffness, &interior, boundary);
     let mut u_n = -k_nh.to_dense();
     hook.report(&Stage::Solves {

@@ -53,30 +53,16 @@ pub fn inertia_relief_and_free_modes(
     }
     check_support(rigid, support, dof_map)?;
     let hook = progress::global();
-    let t = std::time::Instant::now();
-    hook.report(&Stage::Ordering { equations: n });
-    let pencil = ShiftedPencil::analyze(stiffness, mass, Ordering::Auto)?;
-    hook.report(&Stage::Analyzed {
-        factor_len: pencil.factor_len(),
-        seconds: t.elapsed().as_secs_f64(),
-    });
-    let t = std::time::Instant::now();
-    hook.report(&Stage::Factorization { shift: 0.0 });
-    let singular = |row: usize| ReduceError::Singular {
-        what: SUPPORTED,
-        dof: dof_map.dof(row),
-    };
-    let held = pencil.factorize_fixed(support).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => singular(index),
-        other => other.into(),
-    })?;
-    if let Some(row) = held.tiny_pivot() {
-        return Err(singular(row));
-    }
-    hook.report(&Stage::Factorized {
-        shift: 0.0,
-        seconds: t.elapsed().as_secs_f64(),
-    });
+    let pencil = ShiftedPencil::analyze_reporting(stiffness, mass, Ordering::Auto, &*hook)?;
+    let held = pencil
+        .factorize_static(support, &*hook)
+        .map_err(|e| match e {
+            LinalgError::Singular { index, .. } => ReduceError::Singular {
+                what: SUPPORTED,
+                dof: dof_map.dof(index),
+            },
+            other => other.into(),
+        })?;
     hook.report(&Stage::Solves {
         columns: loads.ncols(),
     });
