@@ -128,6 +128,11 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
 }
 
 impl Component {
+    /// `K` and `M` (and the damping), dropping the mesh and everything else.
+    pub fn into_matrices(self) -> SystemMatrices {
+        self.sub.matrices
+    }
+
     /// Interface DOFs from a comma-separated list of node sets and node
     /// numbers (all free DOFs of each node), or the model file's interface
     /// when `spec` is `None`.

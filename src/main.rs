@@ -278,24 +278,8 @@ fn install_progress(verbose: bool, start: std::time::Instant) {
     }
 }
 
-/// glibc hands every block above 32 MB back to the kernel on `free` and
-/// takes fresh, zeroed pages on the next `malloc`. The eigen solver of a
-/// large model allocates blocks of 20-700 MB again and again (Krylov
-/// blocks, the factor of each shift); at 3e5 DOFs the page faults cost 3 s
-/// of 19. Blocks up to 256 MB now come from the heap and up to 256 MB of
-/// free memory stays with the process (the peak grows by about 3 %).
-fn tune_allocator() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: mallopt only sets allocator parameters; called before any
-    // thread starts.
-    unsafe {
-        libc::mallopt(libc::M_MMAP_THRESHOLD, 256 << 20);
-        libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
-    }
-}
-
 fn main() -> ExitCode {
-    tune_allocator();
+    flexbody::linalg::memory::tune_allocator();
     let start = std::time::Instant::now();
     let cli = Cli::parse();
     install_progress(cli.verbose, start);
@@ -612,22 +596,17 @@ fn run_modes(
     json: bool,
 ) -> Result<()> {
     let c = load(model, matrices)?;
-    let matrices = &c.sub.matrices;
     let n = c.sub.len();
     let band = match band {
         red::modes::Band::Lowest(count) => red::modes::Band::Lowest(count.min(n)),
         other => other,
     };
-    let modes = red::modes::eigenmodes_in(&matrices.stiffness, &matrices.mass, band)?;
-    // ||K phi - lambda M phi|| / ||K phi||; for rigid-body modes, whose K phi
-    // is itself round-off, relative to ||K|| ||phi|| instead.
-    let residuals = flexbody::linalg::lanczos::residuals(
-        &matrices.stiffness,
-        &matrices.mass,
-        &modes.values,
-        modes.vectors.as_ref(),
-        &flexbody::linalg::sparse::diagonal(&matrices.stiffness),
-    );
+    // K and M go to the solver, which drops them once it holds its compact
+    // copy. Residuals: ||K phi - lambda M phi|| / ||K phi||; for rigid-body
+    // modes, whose K phi is itself round-off, relative to ||K|| ||phi||.
+    let matrices = c.into_matrices();
+    flexbody::linalg::memory::release_free_memory();
+    let (modes, residuals) = red::modes::eigenmodes_owned(matrices.stiffness, matrices.mass, band)?;
     let hz = modes.frequencies_hz();
     if json {
         let doc = serde_json::json!({ "dofs": n, "frequencies_hz": hz, "residuals": residuals });

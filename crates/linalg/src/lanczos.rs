@@ -170,22 +170,21 @@ pub fn lanczos(
 /// caller no longer needs becomes the Lanczos operator when its shift is
 /// `params.shift`; otherwise its storage is reused.
 pub fn lanczos_on(
-    pencil: &ShiftedPencil<'_>,
+    pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
     wanted: Wanted,
     params: &LanczosParams,
     progress: &dyn Progress,
 ) -> Result<SparseEigen, LinalgError> {
     let start = Instant::now();
-    let (k, m) = (pencil.stiffness(), pencil.mass());
-    let n = k.nrows();
+    let n = pencil.dim();
     let mut stats = LanczosStats {
         ordering: pencil.ordering(),
         factor_len: pencil.factor_len(),
         ..Default::default()
     };
-    let k_diag = crate::sparse::diagonal(k);
-    let m_diag = crate::sparse::diagonal(m);
+    let k_diag = pencil.stiffness_diagonal();
+    let m_diag = pencil.mass_diagonal();
     let trace_k: f64 = k_diag.iter().map(|v| v.abs()).sum();
     let trace_m: f64 = m_diag.iter().map(|v| v.abs()).sum();
     if trace_m == 0.0 || n == 0 {
@@ -204,7 +203,6 @@ pub fn lanczos_on(
         sigma,
         factor,
         spare,
-        m,
         progress,
         solves: 0,
         block_solves: 0,
@@ -248,13 +246,15 @@ pub fn lanczos_on(
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     let mut locked = Locked {
         x: Mat::zeros(n, 0),
-        mx: Mat::zeros(n, 0),
         theta: vec![],
     };
     let mut found = krylov_schur(
         &mut op, &locked, nev, params, progress, &mut rng, &mut stats,
     )?;
     locked.append(found);
+    // The run's blocks are free now: their pages go back before the Sturm
+    // factorisation takes its own.
+    crate::memory::release_free_memory();
     let mut report = None;
     if params.sturm_check || sturm.is_some() {
         let lambdas = |l: &Locked| -> Vec<f64> {
@@ -326,11 +326,16 @@ pub fn lanczos_on(
     };
     order.truncate(keep);
     let vectors = Mat::from_fn(n, order.len(), |i, j| locked.x[(i, order[j])]);
+    drop(locked);
     // The Ritz values carry round-off of eps theta_max (1e-10 relative for
     // the elastic modes of a free body at a small shift); the vectors are
     // accurate, so their Rayleigh quotients give the eigenvalues.
-    let values = rayleigh_quotients(k, vectors.as_ref(), locked.mx.as_ref(), &order);
-    let residuals = residuals(k, m, &values, vectors.as_ref(), &k_diag);
+    let kx = pencil.mul_stiffness(vectors.as_ref());
+    let mx = pencil.mul_mass(vectors.as_ref());
+    let values: Vec<f64> = (0..vectors.ncols())
+        .map(|j| dot(vectors.col(j), kx.col(j)) / dot(vectors.col(j), mx.col(j)))
+        .collect();
+    let residuals = residuals_of(&kx, &mx, &values, vectors.as_ref(), &k_diag);
     progress.report(&Stage::Done {
         seconds: start.elapsed().as_secs_f64(),
     });
@@ -343,20 +348,6 @@ pub fn lanczos_on(
     })
 }
 
-/// `x^T K x / x^T M x` of each column of `x` (`mx` holds `M x` for the
-/// columns `order` of the locked set).
-fn rayleigh_quotients(
-    k: &SparseMat,
-    x: MatRef<'_, f64>,
-    mx: MatRef<'_, f64>,
-    order: &[usize],
-) -> Vec<f64> {
-    let kx = symmetric_mul(k, x);
-    (0..x.ncols())
-        .map(|j| dot(x.col(j), kx.col(j)) / dot(x.col(j), mx.col(order[j])))
-        .collect()
-}
-
 /// `||K x - lambda M x|| / ||K x||` per column, with the rigid-body floor
 /// `||K|| ||x||` of the module docs.
 pub fn residuals(
@@ -366,9 +357,20 @@ pub fn residuals(
     vectors: MatRef<'_, f64>,
     k_diag: &[f64],
 ) -> Vec<f64> {
-    let k_norm = k_diag.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let kx = symmetric_mul(k, vectors);
     let mx = symmetric_mul(m, vectors);
+    residuals_of(&kx, &mx, values, vectors, k_diag)
+}
+
+/// [`residuals`] from the products `K x` and `M x`.
+fn residuals_of(
+    kx: &Mat<f64>,
+    mx: &Mat<f64>,
+    values: &[f64],
+    vectors: MatRef<'_, f64>,
+    k_diag: &[f64],
+) -> Vec<f64> {
+    let k_norm = k_diag.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     (0..values.len())
         .map(|j| {
             let r = kx.col(j) - mx.col(j) * faer::Scale(values[j]);
@@ -391,13 +393,12 @@ pub fn residuals(
 /// factorises when first needed and again after a Sturm check has borrowed
 /// its storage (one factor in memory at a time); counts the solves and times
 /// the solves, the products with `M` and the factorisations.
-struct Operator<'p, 'a> {
-    pencil: &'p ShiftedPencil<'a>,
+struct Operator<'p> {
+    pencil: &'p ShiftedPencil,
     sigma: f64,
     factor: Option<ShiftedFactor>,
     /// Storage of a factor no longer held, reused by the next one.
     spare: Vec<f64>,
-    m: &'a SparseMat,
     progress: &'p dyn Progress,
     solves: usize,
     block_solves: usize,
@@ -407,7 +408,7 @@ struct Operator<'p, 'a> {
     sturm_seconds: f64,
 }
 
-impl Operator<'_, '_> {
+impl Operator<'_> {
     /// Factorises `K - sigma M` (if not held), checking that `sigma` lies
     /// below the spectrum.
     fn factorize(&mut self) -> Result<&ShiftedFactor, LinalgError> {
@@ -472,9 +473,8 @@ impl Operator<'_, '_> {
         )))
     }
 
-    /// `(K - sigma M)^-1 Y` for `Y = M V` given.
-    fn solve(&mut self, mv: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
-        let mut x = mv.to_owned();
+    /// `(K - sigma M)^-1 Y` for `Y = M V` given, in its storage.
+    fn solve(&mut self, mut x: Mat<f64>) -> Result<Mat<f64>, LinalgError> {
         let factor = self.factorize()?;
         let t = Instant::now();
         factor.solve_in_place(x.as_mut());
@@ -487,16 +487,15 @@ impl Operator<'_, '_> {
     /// `M X`.
     fn mass(&mut self, x: MatRef<'_, f64>) -> Mat<f64> {
         let t = Instant::now();
-        let mx = symmetric_mul(self.m, x);
+        let mx = self.pencil.mul_mass(x);
         self.mass_seconds += t.elapsed().as_secs_f64();
         mx
     }
 }
 
-/// Converged vectors, `M` times them, and their `theta`.
+/// Converged vectors and their `theta`.
 struct Locked {
     x: Mat<f64>,
-    mx: Mat<f64>,
     theta: Vec<f64>,
 }
 
@@ -504,15 +503,12 @@ impl Locked {
     fn append(&mut self, other: Locked) {
         let n = self.x.nrows();
         let (a, b) = (self.x.ncols(), other.x.ncols());
-        let cat = |p: &Mat<f64>, q: &Mat<f64>| {
-            Mat::from_fn(
-                n,
-                a + b,
-                |i, j| if j < a { p[(i, j)] } else { q[(i, j - a)] },
-            )
-        };
-        self.x = cat(&self.x, &other.x);
-        self.mx = cat(&self.mx, &other.mx);
+        let (p, q) = (&self.x, &other.x);
+        self.x = Mat::from_fn(
+            n,
+            a + b,
+            |i, j| if j < a { p[(i, j)] } else { q[(i, j - a)] },
+        );
         self.theta.extend(other.theta);
     }
 }
@@ -534,17 +530,14 @@ fn dot(a: ColRef<'_, f64>, b: ColRef<'_, f64>) -> f64 {
     a.transpose() * b
 }
 
-/// `W -= X (X^T MW)`, `MW -= MX (X^T MW)`; returns `X^T MW`.
-fn project_out(
-    w: MatMut<'_, f64>,
-    mw: MatMut<'_, f64>,
-    x: MatRef<'_, f64>,
-    mx: MatRef<'_, f64>,
-) -> Mat<f64> {
+/// `W -= X (X^T MW)` for `MW = M W` (stale afterwards); returns `X^T MW`.
+/// With `X` the M-orthonormal union of blocks that are M-orthogonal to
+/// each other, the blocks may be projected one after the other with the
+/// same `MW`.
+fn project_out(w: MatMut<'_, f64>, mw: MatRef<'_, f64>, x: MatRef<'_, f64>) -> Mat<f64> {
     let par = faer::get_global_parallelism();
-    let c = x.transpose() * mw.as_ref();
+    let c = x.transpose() * mw;
     matmul(w, Accum::Add, x, c.as_ref(), -1.0, par);
-    matmul(mw, Accum::Add, mx, c.as_ref(), -1.0, par);
     c
 }
 
@@ -570,70 +563,63 @@ fn orthonormalize_block(
     w: &mut Mat<f64>,
     mw: &mut Mat<f64>,
     before: &[f64],
-    others: &[(MatRef<'_, f64>, MatRef<'_, f64>)],
-    m: &SparseMat,
+    others: &[MatRef<'_, f64>],
+    pencil: &ShiftedPencil,
     rng: &mut Rng,
 ) -> Mat<f64> {
-    cholesky_qr2(w, mw).unwrap_or_else(|| gram_schmidt_block(w, mw, before, others, m, rng))
+    cholesky_qr2(w, mw, others, pencil, rng)
+        .unwrap_or_else(|| gram_schmidt_block(w, mw, before, others, pencil, rng))
 }
 
 /// Cholesky QR twice in the `M` inner product: `G = W^T M W = R^T R`,
 /// `W <- W R^-1`, once more for orthogonality to round-off; returns `B`
-/// with `W_in = Q B`. Two small Gram matrices and four products with an
-/// `n x b` block, all BLAS-3 and parallel, where Gram-Schmidt column by
-/// column costs `b^2` passes over `n`. `None` (nothing changed) when `W` is
-/// too ill-conditioned for it (the ratio of the extreme diagonal entries
-/// of `R` below 1e-6, the point where `G` has lost half the digits).
-fn cholesky_qr2(w: &mut Mat<f64>, mw: &mut Mat<f64>) -> Option<Mat<f64>> {
+/// with `W_in = Q B`. Two small Gram matrices and BLAS-3 updates of the
+/// `n x b` block in place, where Gram-Schmidt column by column costs `b^2`
+/// passes over `n`. `None` (nothing changed) when `W` is too
+/// ill-conditioned for it (the ratio of the extreme diagonal entries of
+/// `R` below 1e-6, the point where `G` has lost half the digits); should
+/// the second pass fail, Gram-Schmidt finishes what the first began.
+fn cholesky_qr2(
+    w: &mut Mat<f64>,
+    mw: &mut Mat<f64>,
+    others: &[MatRef<'_, f64>],
+    pencil: &ShiftedPencil,
+    rng: &mut Rng,
+) -> Option<Mat<f64>> {
     let b = w.ncols();
     let par = faer::get_global_parallelism();
     let mut total = Mat::<f64>::identity(b, b);
-    let mut q = w.clone();
-    let mut mq = mw.clone();
-    for _pass in 0..2 {
-        let mut g = q.transpose() * &mq;
+    for pass in 0..2 {
+        let mut g = w.transpose() * mw.as_ref();
         crate::sparse::symmetrize(&mut g);
-        let l = g.llt(Side::Lower).ok()?.L().to_owned();
-        let diag: Vec<f64> = (0..b).map(|i| l[(i, i)]).collect();
-        let (lo, hi) = diag.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &d| {
-            (lo.min(d), hi.max(d))
+        let factor = g.llt(Side::Lower).ok().map(|f| f.L().to_owned());
+        let conditioned = factor.as_ref().is_some_and(|l| {
+            let (lo, hi) = (0..b).fold((f64::INFINITY, 0.0_f64), |(lo, hi), i| {
+                (lo.min(l[(i, i)]), hi.max(l[(i, i)]))
+            });
+            lo > 1e-6 * hi && hi.is_finite()
         });
-        let conditioned = lo > 1e-6 * hi && hi.is_finite();
-        if !conditioned {
-            return None;
+        let l = match factor {
+            Some(l) if conditioned => l,
+            _ if pass == 0 => return None,
+            _ => {
+                // The columns have unit M-norm after the first pass.
+                let unit = vec![1.0; b];
+                let r = gram_schmidt_block(w, mw, &unit, others, pencil, rng);
+                return Some(r * &total);
+            }
+        };
+        // W R^-1 = W L^-T: (W R^-1)^T = L^-1 W^T, a lower solve on the
+        // transposed views, in place.
+        for x in [w.as_mut(), mw.as_mut()] {
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+                l.as_ref(),
+                x.transpose_mut(),
+                par,
+            );
         }
-        // R = L^T; W R^-1 = W L^-T.
-        let mut r_inv = Mat::<f64>::identity(b, b);
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-            l.as_ref(),
-            r_inv.as_mut(),
-            par,
-        );
-        let r_inv = r_inv.transpose().to_owned();
-        let mut next = Mat::<f64>::zeros(q.nrows(), b);
-        matmul(
-            next.as_mut(),
-            Accum::Replace,
-            q.as_ref(),
-            r_inv.as_ref(),
-            1.0,
-            par,
-        );
-        q = next;
-        let mut next = Mat::<f64>::zeros(q.nrows(), b);
-        matmul(
-            next.as_mut(),
-            Accum::Replace,
-            mq.as_ref(),
-            r_inv.as_ref(),
-            1.0,
-            par,
-        );
-        mq = next;
         total = l.transpose() * &total;
     }
-    *w = q;
-    *mw = mq;
     Some(total)
 }
 
@@ -643,8 +629,8 @@ fn gram_schmidt_block(
     w: &mut Mat<f64>,
     mw: &mut Mat<f64>,
     before: &[f64],
-    others: &[(MatRef<'_, f64>, MatRef<'_, f64>)],
-    m: &SparseMat,
+    others: &[MatRef<'_, f64>],
+    pencil: &ShiftedPencil,
     rng: &mut Rng,
 ) -> Mat<f64> {
     let (n, b) = (w.nrows(), w.ncols());
@@ -671,11 +657,12 @@ fn gram_schmidt_block(
         }
         // Breakdown: an invariant subspace; continue with a fresh direction.
         let mut z = Mat::from_fn(n, 1, |_, _| rng.next());
-        let mut mz = symmetric_mul(m, z.as_ref());
+        let mut mz = pencil.mul_mass(z.as_ref());
         for _pass in 0..2 {
-            for (x, mx) in others {
-                project_out(z.as_mut(), mz.as_mut(), *x, *mx);
+            for x in others {
+                project_out(z.as_mut(), mz.as_ref(), *x);
             }
+            mz = pencil.mul_mass(z.as_ref());
             for j in 0..i {
                 let c = dot(w.col(j), mz.col(0));
                 for p in 0..n {
@@ -699,7 +686,7 @@ fn gram_schmidt_block(
 /// `OP` deflated by `locked`; returns every converged Ritz pair (at least
 /// the `nev` wanted ones).
 fn krylov_schur(
-    op: &mut Operator<'_, '_>,
+    op: &mut Operator<'_>,
     locked: &Locked,
     nev: usize,
     params: &LanczosParams,
@@ -708,8 +695,8 @@ fn krylov_schur(
     stats: &mut LanczosStats,
 ) -> Result<Locked, LinalgError> {
     stats.runs += 1;
-    let m = op.m;
-    let n = m.nrows();
+    let pencil = op.pencil;
+    let n = pencil.dim();
     let free = n - locked.x.ncols();
     let b = params.block_size.max(1).min(free.max(1));
     let p_max = if params.basis_size > 0 {
@@ -727,27 +714,30 @@ fn krylov_schur(
         .min(p_max.saturating_sub(2 * b))
         .max(nev)
         .min(p_max.saturating_sub(b));
+    // The basis only: `M V` is not kept (0.2 GB at 3e5 DOFs); each
+    // projection pass takes one product `M W` of the new block instead.
     let mut v = Mat::<f64>::zeros(n, p_max);
-    let mut mv = Mat::<f64>::zeros(n, p_max);
     let mut h = Mat::<f64>::zeros(p_max, p_max);
-    let lk = (locked.x.as_ref(), locked.mx.as_ref());
+    let lk = locked.x.as_ref();
 
     // Start block: OP applied to random vectors (in the range of OP).
-    {
+    // `pending` is `M` times the block `[e, c)` that the next step expands.
+    let mut pending = {
         let z = Mat::from_fn(n, b, |_, _| rng.next());
-        let mz = symmetric_mul(m, z.as_ref());
-        let mut w = op.solve(mz.as_ref())?;
+        let mz = pencil.mul_mass(z.as_ref());
+        let mut w = op.solve(mz)?;
         let mut mw = op.mass(w.as_ref());
         let before: Vec<f64> = (0..b)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
             .collect();
         for _ in 0..2 {
-            project_out(w.as_mut(), mw.as_mut(), lk.0, lk.1);
+            project_out(w.as_mut(), mw.as_ref(), lk);
+            mw = op.mass(w.as_ref());
         }
-        orthonormalize_block(&mut w, &mut mw, &before, &[lk], m, rng);
+        orthonormalize_block(&mut w, &mut mw, &before, &[lk], pencil, rng);
         v.subcols_mut(0, b).copy_from(&w);
-        mv.subcols_mut(0, b).copy_from(&mw);
-    }
+        mw
+    };
     let (mut e, mut c) = (0usize, b);
     let mut step = 0;
     loop {
@@ -760,7 +750,7 @@ fn krylov_schur(
         }
         // Expand the pending block [e, c).
         let blk = c - e;
-        let mut w = op.solve(mv.subcols(e, blk))?;
+        let mut w = op.solve(pending)?;
         let mut mw = op.mass(w.as_ref());
         let before: Vec<f64> = (0..blk)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
@@ -770,8 +760,11 @@ fn krylov_schur(
         // half of a column (at most 4 passes).
         let mut norms = before.clone();
         for _ in 0..4 {
-            project_out(w.as_mut(), mw.as_mut(), lk.0, lk.1);
-            coef += project_out(w.as_mut(), mw.as_mut(), v.subcols(0, c), mv.subcols(0, c));
+            // The locked vectors are M-orthogonal to the basis: one `M W`
+            // serves both projections.
+            project_out(w.as_mut(), mw.as_ref(), lk);
+            coef += project_out(w.as_mut(), mw.as_ref(), v.subcols(0, c));
+            mw = op.mass(w.as_ref());
             let after: Vec<f64> = (0..blk)
                 .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
                 .collect();
@@ -795,15 +788,14 @@ fn krylov_schur(
             }
         }
         let bmat = {
-            let others = [lk, (v.subcols(0, c), mv.subcols(0, c))];
-            orthonormalize_block(&mut w, &mut mw, &before, &others, m, rng)
+            let others = [lk, v.subcols(0, c)];
+            orthonormalize_block(&mut w, &mut mw, &before, &others, pencil, rng)
         };
         let e_prev = e;
         e = c;
         let full = c + blk > p_max || e >= free;
         if !full {
             v.subcols_mut(c, blk).copy_from(&w);
-            mv.subcols_mut(c, blk).copy_from(&mw);
             for j in 0..blk {
                 for i in 0..blk {
                     h[(c + i, e_prev + j)] = bmat[(i, j)];
@@ -851,10 +843,8 @@ fn krylov_schur(
             let pick: Vec<usize> = (0..e).filter(|&i| conv[i] && theta[i] > 0.0).collect();
             let y = Mat::from_fn(e, pick.len(), |r, j| u[(r, idx[pick[j]])]);
             let x = v.subcols(0, e) * &y;
-            let mx = mv.subcols(0, e) * &y;
             return Ok(Locked {
                 x,
-                mx,
                 theta: pick.iter().map(|&i| theta[i]).collect(),
             });
         }
@@ -864,9 +854,7 @@ fn krylov_schur(
             stats.restarts += 1;
             let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[j])]);
             rotate_in_place(&mut v, e, y.as_ref());
-            rotate_in_place(&mut mv, e, y.as_ref());
             v.subcols_mut(kk, blk).copy_from(&w);
-            mv.subcols_mut(kk, blk).copy_from(&mw);
             h.fill(0.0);
             let coupling = bmat.as_ref() * y.subrows(e_prev, blk);
             for j in 0..kk {
@@ -879,6 +867,7 @@ fn krylov_schur(
             e = kk;
             c = kk + blk;
         }
+        pending = mw;
     }
 }
 

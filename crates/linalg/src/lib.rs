@@ -15,6 +15,8 @@
 pub mod eigen;
 pub mod lanczos;
 pub mod ldlt;
+pub mod lower;
+pub mod memory;
 pub mod ordering;
 pub mod orthonormal;
 pub mod progress;

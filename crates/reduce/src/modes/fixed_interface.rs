@@ -42,6 +42,7 @@ pub fn craig_bampton_modes(
     let m_nn = sparse::submatrix(mass, &interior, &interior);
     let hook = progress::global();
     let pencil = ShiftedPencil::analyze_reporting(&k_nn, &m_nn, Ordering::Auto, &*hook)?;
+    drop((k_nn, m_nn)); // the pencil holds its compact copy
     let k_factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Mechanism {
             interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),

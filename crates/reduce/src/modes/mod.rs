@@ -12,8 +12,8 @@ pub mod rigid;
 pub use attachment::{attachment_modes, unit_loads};
 pub use constraint::constraint_modes;
 pub use eigen::{
-    eigenmodes, eigenmodes_in, fixed_interface_eigenmodes, fixed_interface_eigenmodes_in, Band,
-    EigenModes, DENSE_LIMIT,
+    eigenmodes, eigenmodes_in, eigenmodes_owned, fixed_interface_eigenmodes,
+    fixed_interface_eigenmodes_in, Band, EigenModes, DENSE_LIMIT,
 };
 pub use fixed_interface::craig_bampton_modes;
 pub use free_interface::inertia_relief_and_free_modes;
