@@ -123,6 +123,26 @@ fn sparse_path_equals_dense_on_a_solid_bar() {
     }
 }
 
+/// `eigenmodes_owned` (the solver takes K and M and drops them once it
+/// holds its compact copy) gives the dense solver's modes and residuals at
+/// round-off, for a count and for a band.
+#[test]
+fn owned_matrices_give_the_same_modes_and_their_residuals() {
+    use flexbody_reduce::modes::eigen::{eigenmodes_owned, Band};
+    let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let dense = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
+    let (modes, residuals) = eigenmodes_owned(k.clone(), m.clone(), Band::Lowest(20)).unwrap();
+    assert_close(&modes.values, &dense.values, 1e-10);
+    assert_eq!(residuals.len(), 20);
+    assert!(residuals.iter().all(|r| *r < 1e-8), "{residuals:?}");
+    // The band up to midway between modes 12 and 13: exactly 12 modes.
+    let v = &dense.values;
+    let hz = 0.5 * (v[11].sqrt() + v[12].sqrt()) / (2.0 * std::f64::consts::PI);
+    let (band, _) = eigenmodes_owned(k.clone(), m.clone(), Band::BelowHz(hz)).unwrap();
+    assert_close(&band.values, &dense.values[..12], 1e-10);
+}
+
 #[test]
 fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
     // A 6 x 6 x 6 C3D8 cube (1029 DOFs): by symmetry, 2- and 3-fold
