@@ -169,16 +169,7 @@ impl LowerPattern {
             .collect();
         for c0 in (0..k).step_by(LANE) {
             let g = LANE.min(k - c0);
-            x.par_chunks_mut(rows_per_chunk)
-                .enumerate()
-                .for_each(|(chunk, rows)| {
-                    for (r, row) in rows.iter_mut().enumerate() {
-                        let i = chunk * rows_per_chunk + r;
-                        for (q, v) in row.0.iter_mut().enumerate() {
-                            *v = if q < g { b[(i, c0 + q)] } else { 0.0 };
-                        }
-                    }
-                });
+            pack(b, c0, &mut x);
             let x = &x;
             let mut own: Vec<&mut [Lane]> = Vec::with_capacity(tasks);
             let mut rest = y.as_mut_slice();
@@ -291,16 +282,35 @@ impl Part<'_> {
     }
 }
 
-/// Right-hand sides per pass of [`LowerPattern::mul`].
-const LANE: usize = 8;
+/// Right-hand sides per pass of the sparse products ([`LowerPattern::mul`],
+/// [`crate::sparse::symmetric_mul`]).
+pub(crate) const LANE: usize = 8;
 
 /// One row of a group of right-hand sides: a cache line.
 #[derive(Copy, Clone)]
 #[repr(C, align(64))]
-struct Lane([f64; LANE]);
+pub(crate) struct Lane(pub(crate) [f64; LANE]);
 
 impl Lane {
-    const ZERO: Lane = Lane([0.0; LANE]);
+    pub(crate) const ZERO: Lane = Lane([0.0; LANE]);
+}
+
+/// Copies the columns `c0..c0 + LANE` of `b` (zeros past its last
+/// column) row-major into `x`, one [`Lane`] per row, so that a sparse
+/// product reads the group's values of a row together; rows in parallel.
+pub(crate) fn pack(b: MatRef<'_, f64>, c0: usize, x: &mut [Lane]) {
+    const ROWS: usize = 4096;
+    let g = LANE.min(b.ncols() - c0);
+    x.par_chunks_mut(ROWS)
+        .enumerate()
+        .for_each(|(chunk, rows)| {
+            for (r, row) in rows.iter_mut().enumerate() {
+                let i = chunk * ROWS + r;
+                for (q, v) in row.0.iter_mut().enumerate() {
+                    *v = if q < g { b[(i, c0 + q)] } else { 0.0 };
+                }
+            }
+        });
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! Sparse helpers: assembly from triplets, sub-matrices by index lists,
 //! sparse-times-dense products, and conversion to dense for small problems.
 
+use crate::lower::{pack, Lane, LANE};
 use crate::{LinalgError, SparseMat};
 pub use faer::sparse::Triplet;
 use faer::{Mat, MatRef};
@@ -81,25 +82,14 @@ pub fn symmetric_mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
         return out;
     }
     let (col_ptr, row_idx, values) = (a.col_ptr(), a.row_idx(), a.val());
-    // Right-hand sides in groups of GROUP, each copied row-major so that the
-    // GROUP values of one row are adjacent: one pass over a column of `a`
+    // Right-hand sides in groups of LANE, each copied row-major so that the
+    // LANE values of one row are adjacent: one pass over a column of `a`
     // per group, with the sums in registers.
-    const GROUP: usize = 8;
     let rows_per_task = (n / (8 * rayon::current_num_threads())).clamp(256, 16384);
-    let mut packed = vec![0.0_f64; n * GROUP];
-    for c0 in (0..k).step_by(GROUP) {
-        let g = GROUP.min(k - c0);
-        packed
-            .par_chunks_mut(GROUP * rows_per_task)
-            .enumerate()
-            .for_each(|(chunk, rows)| {
-                for (r, row) in rows.chunks_exact_mut(GROUP).enumerate() {
-                    let i = chunk * rows_per_task + r;
-                    for (q, v) in row.iter_mut().enumerate() {
-                        *v = if q < g { b[(i, c0 + q)] } else { 0.0 };
-                    }
-                }
-            });
+    let mut packed = vec![Lane::ZERO; n];
+    for c0 in (0..k).step_by(LANE) {
+        let g = LANE.min(k - c0);
+        pack(b, c0, &mut packed);
         let packed = &packed;
         out.as_mut()
             .par_row_chunks_mut(rows_per_task)
@@ -108,9 +98,9 @@ pub fn symmetric_mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
                 let first = chunk * rows_per_task;
                 for r in 0..block.nrows() {
                     let range = col_ptr[first + r]..col_ptr[first + r + 1];
-                    let mut acc = [0.0_f64; GROUP];
+                    let mut acc = [0.0_f64; LANE];
                     for (&i, &v) in row_idx[range.clone()].iter().zip(&values[range]) {
-                        let row = &packed[GROUP * i..GROUP * i + GROUP];
+                        let row = &packed[i].0;
                         for (a, x) in acc.iter_mut().zip(row) {
                             *a += v * x;
                         }

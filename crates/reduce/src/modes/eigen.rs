@@ -17,7 +17,7 @@ use super::{complement, expand};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
-use flexbody_linalg::lanczos::{lanczos, lanczos_on, LanczosParams, Wanted};
+use flexbody_linalg::lanczos::{lanczos, lanczos_on, LanczosParams, SparseEigen, Wanted};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, SparseMat};
@@ -109,12 +109,9 @@ pub fn eigenmodes_owned(
     band: Band,
 ) -> Result<(EigenModes, Vec<f64>), ReduceError> {
     let n = stiffness.nrows();
-    let (wanted, dense) = match band {
-        Band::Lowest(count) => (Wanted::Lowest(count), dense_for(n, count)),
-        Band::BelowHz(f) => (
-            Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
-            n < SPARSE_FROM,
-        ),
+    let dense = match band {
+        Band::Lowest(count) => dense_for(n, count),
+        Band::BelowHz(_) => n < SPARSE_FROM,
     };
     if dense || band == Band::Lowest(0) {
         let modes = eigenmodes_in(&stiffness, &mass, band)?;
@@ -138,15 +135,7 @@ pub fn eigenmodes_owned(
     let progress = flexbody_linalg::progress::global();
     let pencil = ShiftedPencil::analyze_reporting(&stiffness, &mass, Ordering::Auto, &*progress)?;
     drop((stiffness, mass));
-    let found = lanczos_on(&pencil, None, wanted, &LanczosParams::default(), &*progress)?;
-    if let Band::Lowest(count) = band {
-        if found.pairs.values.len() < count {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: found.pairs.values.len(),
-            });
-        }
-    }
+    let found = lanczos_band(&pencil, None, band, None)?;
     Ok((found.pairs, found.residuals))
 }
 
@@ -227,6 +216,17 @@ pub fn eigenmodes_on(
     band: Band,
     shift: Option<f64>,
 ) -> Result<EigenModes, ReduceError> {
+    Ok(lanczos_band(pencil, factor, band, shift)?.pairs)
+}
+
+/// The Lanczos solve of [`eigenmodes_on`] with its residuals; fewer modes
+/// than a count asks for is an error.
+fn lanczos_band(
+    pencil: &ShiftedPencil,
+    factor: Option<ShiftedFactor>,
+    band: Band,
+    shift: Option<f64>,
+) -> Result<SparseEigen, ReduceError> {
     let wanted = match band {
         Band::Lowest(count) => Wanted::Lowest(count),
         Band::BelowHz(f) => Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
@@ -245,7 +245,7 @@ pub fn eigenmodes_on(
             });
         }
     }
-    Ok(found.pairs)
+    Ok(found)
 }
 
 /// Eigenmodes of the body held at the `boundary` equations (zero there).
