@@ -23,6 +23,59 @@ pub struct LowerPattern {
 const FILL_CHUNK: usize = 4096;
 
 impl LowerPattern {
+    /// The lower triangles of the symmetric `k` and `m` on their union
+    /// pattern, with the values of each. When both have one pattern with
+    /// sorted columns that hold their diagonal (as assembly gives them),
+    /// that is a copy of the lower parts; otherwise the union is built and
+    /// each matrix merged onto it.
+    pub fn of_pair(k: &SparseMat, m: &SparseMat) -> (Self, Vec<f64>, Vec<f64>) {
+        if let Some(shared) = Self::of_shared(k, m) {
+            return shared;
+        }
+        let pattern = Self::union(&[k, m]);
+        let (kv, mv) = (pattern.values_of(k), pattern.values_of(m));
+        (pattern, kv, mv)
+    }
+
+    /// [`Self::of_pair`] for one shared pattern of sorted columns with
+    /// their diagonals; `None` otherwise.
+    fn of_shared(k: &SparseMat, m: &SparseMat) -> Option<(Self, Vec<f64>, Vec<f64>)> {
+        let (cp, ri) = (k.col_ptr(), k.row_idx());
+        let n = k.ncols();
+        if k.col_nnz().is_some() || m.col_nnz().is_some() || cp != m.col_ptr() || ri != m.row_idx()
+        {
+            return None;
+        }
+        // Where each column's lower part starts: its diagonal.
+        let start: Vec<Option<usize>> = (0..n)
+            .into_par_iter()
+            .map(|j| {
+                let rows = &ri[cp[j]..cp[j + 1]];
+                let sorted = rows.windows(2).all(|w| w[0] < w[1]);
+                let d = rows.partition_point(|&i| i < j);
+                (sorted && rows.get(d) == Some(&j)).then_some(cp[j] + d)
+            })
+            .collect();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        for (j, s) in start.iter().enumerate() {
+            col_ptr.push(col_ptr[j] + (cp[j + 1] - (*s)?));
+        }
+        let len = col_ptr[n];
+        let (mut row_idx, mut kv, mut mv) = (
+            Vec::with_capacity(len),
+            Vec::with_capacity(len),
+            Vec::with_capacity(len),
+        );
+        for (j, s) in start.iter().enumerate() {
+            let range = (*s)?..cp[j + 1];
+            row_idx.extend_from_slice(&ri[range.clone()]);
+            kv.extend_from_slice(&k.val()[range.clone()]);
+            mv.extend_from_slice(&m.val()[range]);
+        }
+        Some((Self { col_ptr, row_idx }, kv, mv))
+    }
+
     /// The union of the lower triangles of the square matrices `of` (all of
     /// one size), with every diagonal entry.
     pub fn union(of: &[&SparseMat]) -> Self {
@@ -332,6 +385,23 @@ mod tests {
             }
         }
         from_triplets(n, n, &t).unwrap()
+    }
+
+    /// One pattern for both (as assembly gives them) takes the copy of the
+    /// lower parts; the result equals the general union and merge.
+    #[test]
+    fn a_shared_pattern_gives_the_union_and_its_values() {
+        let k = sample(5000, 1);
+        let values: Vec<f64> = k.val().iter().map(|v| v.abs() + 0.5).collect();
+        let m = SparseMat::new(k.symbolic().to_owned().unwrap(), values);
+        let (pattern, kv, mv) = LowerPattern::of_pair(&k, &m);
+        let union = LowerPattern::union(&[&k, &m]);
+        assert_eq!(pattern.col_ptr, union.col_ptr);
+        assert_eq!(pattern.row_idx, union.row_idx);
+        assert_eq!(kv, union.values_of(&k));
+        assert_eq!(mv, union.values_of(&m));
+        assert!(LowerPattern::of_shared(&k, &m).is_some());
+        assert!(LowerPattern::of_shared(&k, &sample(5000, 2)).is_none());
     }
 
     #[test]

@@ -75,8 +75,7 @@ impl ShiftedPencil {
                 m.ncols()
             )));
         }
-        let pattern = LowerPattern::union(&[k, m]);
-        let (kv, mv) = (pattern.values_of(k), pattern.values_of(m));
+        let (pattern, kv, mv) = LowerPattern::of_pair(k, m);
         let symbolic = SymbolicLdlt::analyze_pattern(pattern.symbolic(), ordering)?;
         Ok(Self {
             pattern,
