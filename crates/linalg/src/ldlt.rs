@@ -9,7 +9,7 @@
 
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::Stage;
-use crate::supernodal::{permute_rows, unpermute_rows, SolvePlan};
+use crate::supernodal::SolvePlan;
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -169,18 +169,15 @@ impl SymbolicLdlt {
     pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
         let sym = &*self.inner;
         if let (Some(plan), SymbolicCholeskyRaw::Supernodal(s)) = (&self.plan, sym.raw()) {
-            // No copy of the permutation on this hot path.
             let identity: Vec<usize>;
-            let forward = match sym.perm() {
-                Some(p) => p.arrays().0,
+            let inverse = match sym.perm() {
+                Some(p) => p.arrays().1,
                 None => {
                     identity = (0..self.dim()).collect();
                     &identity
                 }
             };
-            let mut y = permute_rows(x.as_ref(), forward);
-            plan.solve_in_place(SupernodalLdltRef::new(s, values), y.as_mut());
-            unpermute_rows(y.as_ref(), forward, x);
+            plan.solve_in_place(SupernodalLdltRef::new(s, values), inverse, x);
             return;
         }
         let par = faer::get_global_parallelism();
