@@ -750,15 +750,49 @@ fn krylov_schur(
         }
         // Expand the pending block [e, c).
         let blk = c - e;
+        let par = faer::get_global_parallelism();
+        let m_block = pending.clone();
         let mut w = op.solve(pending)?;
+        // First pass, without a product with M: by the Krylov relation the
+        // coefficients of W = OP V_blk on the earlier basis vectors are
+        // known, V_i^T M OP V_blk = (OP V_i)^T M V_blk = H[i, blk] (the
+        // previous block's B^T, or the arrow after a restart), and the new
+        // diagonal block is A = (M V_blk)^T W.
+        let lo = (0..e)
+            .find(|&i| (0..blk).any(|j| h[(i, e + j)] != 0.0))
+            .unwrap_or(e);
+        let mut coef = Mat::<f64>::zeros(c, blk);
+        coef.subrows_mut(lo, e - lo)
+            .copy_from(h.submatrix(lo, e, e - lo, blk));
+        matmul(
+            w.as_mut(),
+            Accum::Add,
+            v.subcols(lo, e - lo),
+            coef.subrows(lo, e - lo),
+            -1.0,
+            par,
+        );
+        let a = m_block.transpose() * &w;
+        drop(m_block);
+        matmul(
+            w.as_mut(),
+            Accum::Add,
+            v.subcols(e, blk),
+            a.as_ref(),
+            -1.0,
+            par,
+        );
+        coef.subrows_mut(e, blk).copy_from(&a);
         let mut mw = op.mass(w.as_ref());
-        let before: Vec<f64> = (0..blk)
+        let mut norms: Vec<f64> = (0..blk)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
             .collect();
-        let mut coef = Mat::<f64>::zeros(c, blk);
-        // Classical Gram-Schmidt, repeated while a pass cancels more than
-        // half of a column (at most 4 passes).
-        let mut norms = before.clone();
+        // The M-norms of W as solved: the pass took M-orthogonal parts away.
+        let before: Vec<f64> = (0..blk)
+            .map(|j| (norms[j].powi(2) + coef.col(j).squared_norm_l2()).sqrt())
+            .collect();
+        // Then classical Gram-Schmidt on the whole basis, repeated while a
+        // pass cancels more than half of a column (at most 4 passes).
         for _ in 0..4 {
             // The locked vectors are M-orthogonal to the basis: one `M W`
             // serves both projections.
