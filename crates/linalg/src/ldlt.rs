@@ -7,6 +7,7 @@
 //! in the original row order so that a vanishing pivot names the DOF where a
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
+use crate::numeric::UpdatePlan;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::Stage;
 use crate::supernodal::SolvePlan;
@@ -47,6 +48,7 @@ impl Default for LdltParams {
 pub struct SymbolicLdlt {
     inner: Arc<SymbolicCholesky<usize>>,
     plan: Option<Arc<SolvePlan>>,
+    updates: Option<Arc<UpdatePlan>>,
     ordering: Ordering,
 }
 
@@ -86,15 +88,17 @@ impl SymbolicLdlt {
             )
             .map_err(fail)?,
         };
-        let plan = match inner.raw() {
-            SymbolicCholeskyRaw::Supernodal(s) => {
-                Some(Arc::new(SolvePlan::new(s, rayon::current_num_threads())))
-            }
-            SymbolicCholeskyRaw::Simplicial(_) => None,
+        let (plan, updates) = match inner.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => (
+                Some(Arc::new(SolvePlan::new(s, rayon::current_num_threads()))),
+                Some(Arc::new(UpdatePlan::new(s))),
+            ),
+            SymbolicCholeskyRaw::Simplicial(_) => (None, None),
         };
         Ok(Self {
             inner: Arc::new(inner),
             plan,
+            updates,
             ordering,
         })
     }
@@ -139,6 +143,26 @@ impl SymbolicLdlt {
         let sym = &*self.inner;
         values.clear();
         values.resize(sym.len_val(), 0.0);
+        if let (Some(plan), Some(updates), SymbolicCholeskyRaw::Supernodal(s)) =
+            (&self.plan, &self.updates, sym.raw())
+        {
+            let identity: Vec<usize>;
+            let inverse = match sym.perm() {
+                Some(p) => p.arrays().1,
+                None => {
+                    identity = (0..self.dim()).collect();
+                    &identity
+                }
+            };
+            return crate::numeric::factorize(s, plan, updates, a, inverse, values).map_err(
+                // As faer reports it: 1-based, in elimination order.
+                |index| LinalgError::Singular {
+                    index: index.saturating_sub(1).min(self.dim().saturating_sub(1)),
+                    pivot: 0.0,
+                    diagonal: 0.0,
+                },
+            );
+        }
         let par = faer::get_global_parallelism();
         let mut mem =
             MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))

@@ -17,6 +17,7 @@ pub mod lanczos;
 pub mod ldlt;
 pub mod lower;
 pub mod memory;
+mod numeric;
 pub mod ordering;
 pub mod orthonormal;
 pub mod progress;

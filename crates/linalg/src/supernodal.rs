@@ -37,18 +37,18 @@ use std::ops::Range;
 /// A disjoint subtree of the supernodal elimination tree: its supernodes
 /// and the rows (columns of `L`) they own, both contiguous.
 #[derive(Clone, Debug)]
-struct Task {
-    supernodes: Range<usize>,
-    rows: Range<usize>,
+pub(crate) struct Task {
+    pub(crate) supernodes: Range<usize>,
+    pub(crate) rows: Range<usize>,
 }
 
 /// The split of a supernodal factor into parallel subtrees and the
 /// supernodes above them; computed once per symbolic analysis.
 #[derive(Clone, Debug)]
 pub struct SolvePlan {
-    tasks: Vec<Task>,
+    pub(crate) tasks: Vec<Task>,
     /// Supernodes outside every task, ascending.
-    top: Vec<usize>,
+    pub(crate) top: Vec<usize>,
     /// Rows of the top supernodes, ascending.
     top_rows: Vec<usize>,
     /// `top_index[row]`: position of `row` in `top_rows` (`usize::MAX` for
@@ -623,7 +623,7 @@ fn gather<const FMA: bool>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::ldlt::SymbolicLdlt;
     use crate::ordering::Ordering;
@@ -634,7 +634,7 @@ mod tests {
     /// A 3D grid of `n^3` nodes with 3 DOFs each, every node coupled to its
     /// 26 neighbours: the pattern of a hexahedral solid mesh, positive
     /// definite by diagonal dominance.
-    fn grid(n: usize) -> crate::SparseMat {
+    pub(crate) fn grid(n: usize) -> crate::SparseMat {
         let node = |i: usize, j: usize, k: usize| i + n * (j + n * k);
         let mut t = Vec::new();
         for k in 0..n {
