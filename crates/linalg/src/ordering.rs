@@ -211,6 +211,11 @@ fn metis_node_nd(
     let mut options = [0 as ms::idx_t; ms::METIS_NOPTIONS as usize];
     let mut perm = vec![0 as ms::idx_t; nv];
     let mut iperm = vec![0 as ms::idx_t; nv];
+    // METIS seeds one process-wide random generator per call: two calls at
+    // once (threads) would draw from each other's sequence and give orders
+    // that differ from run to run. One call at a time keeps it reproducible.
+    static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
     // SAFETY: the arrays have the lengths METIS expects (nv + 1, xadj[nv],
     // NOPTIONS, nv, nv); METIS only reads xadj/adjncy and writes perm/iperm.
     let status = unsafe {

@@ -11,8 +11,8 @@
 //! above them. A [`SolvePlan`] splits the tree into such subtrees (tasks,
 //! each a contiguous range of rows in the postordered factor) and the
 //! supernodes above them (the top). The forward sweep runs the tasks in
-//! parallel, each adding its updates of top rows into a private buffer,
-//! then sums the buffers and finishes the top; the backward sweep finishes
+//! parallel, each thread adding its tasks' updates of top rows into a
+//! buffer of its own, then sums the buffers and finishes the top; the backward sweep finishes
 //! the top first and then runs the tasks in parallel, each reading the top
 //! rows from a shared copy.
 //!
@@ -24,9 +24,12 @@
 //! fused multiply-adds. A supernode's update of its pattern rows is
 //! streamed straight from its column-major block, four columns at a time,
 //! into (forward) or out of (backward) those rows: no packed copy of the
-//! block as a general matrix product would make, no temporary. At 3e5 DOFs
-//! (C3D8 box beam, 8.4e7 entries in `L`, 32 tasks, 2 threads) a group takes
-//! 0.115 s, where faer's products on column-major blocks took 0.2 s.
+//! block as a general matrix product would make, no temporary. The
+//! diagonal blocks go the same way, four columns at a time. The large
+//! supernodes of the top split their rows (forward) or columns (backward)
+//! between the threads. At 3e5 DOFs (C3D8 box beam, 8.4e7 entries in `L`,
+//! 32 tasks, 2 threads) a group takes 0.09 s, where faer's products on
+//! column-major blocks took 0.2 s.
 
 use crate::lower::{Lane, LANE};
 use faer::sparse::linalg::cholesky::supernodal::{SupernodalLdltRef, SymbolicSupernodalCholesky};
@@ -227,27 +230,30 @@ impl SolvePlan {
     /// One group of right-hand sides in the factor's order.
     fn solve_group(&self, factor: SupernodalLdltRef<'_, usize, f64>, x: &mut [Lane], fma: bool) {
         let nt = self.top_rows.len();
-        // Forward sweep of the tasks, each with its own buffer of top rows.
+        // Forward sweep of the tasks; the updates of top rows go to a
+        // buffer per thread (not per task: most tasks touch few top rows).
         let buffers: Vec<Vec<Lane>> = self
             .lane_views(x)
             .into_par_iter()
-            .map(|(task, view)| {
-                let mut top = vec![Lane::ZERO; nt];
-                let mut rows = LaneRows {
-                    local: view,
-                    first: task.rows.start,
-                    top: &mut top,
-                    top_index: &self.top_index,
-                };
-                sweep(
-                    fma,
-                    factor,
-                    task.supernodes.clone(),
-                    &mut rows,
-                    Sweep::Forward,
-                );
-                top
-            })
+            .fold(
+                || vec![Lane::ZERO; nt],
+                |mut top, (task, view)| {
+                    let mut rows = LaneRows {
+                        local: view,
+                        first: task.rows.start,
+                        top: Top::Write(&mut top),
+                        top_index: &self.top_index,
+                    };
+                    sweep(
+                        fma,
+                        factor,
+                        task.supernodes.clone(),
+                        &mut rows,
+                        Sweep::Forward,
+                    );
+                    top
+                },
+            )
             .collect();
         for b in &buffers {
             for (p, &r) in self.top_rows.iter().enumerate() {
@@ -260,31 +266,38 @@ impl SolvePlan {
         let mut rows = LaneRows {
             local: x,
             first: 0,
-            top: &mut [],
+            top: Top::Write(&mut []),
             top_index: &self.top_index,
         };
         for &s in &self.top {
-            sweep(fma, factor, s..s + 1, &mut rows, Sweep::Forward);
+            if large(factor, s) {
+                top_forward(fma, factor, s, rows.local);
+            } else {
+                sweep(fma, factor, s..s + 1, &mut rows, Sweep::Forward);
+            }
         }
         let x = rows.local;
         // Backward sweep: the top first, then the tasks reading a copy of it.
         let mut rows = LaneRows {
             local: x,
             first: 0,
-            top: &mut [],
+            top: Top::Write(&mut []),
             top_index: &self.top_index,
         };
         for &s in self.top.iter().rev() {
-            sweep(fma, factor, s..s + 1, &mut rows, Sweep::Backward);
+            if large(factor, s) {
+                top_backward(fma, factor, s, rows.local);
+            } else {
+                sweep(fma, factor, s..s + 1, &mut rows, Sweep::Backward);
+            }
         }
         let x = rows.local;
         let top_copy: Vec<Lane> = self.top_rows.iter().map(|&r| x[r]).collect();
         self.lane_views(x).into_par_iter().for_each(|(task, view)| {
-            let mut top = top_copy.clone();
             let mut rows = LaneRows {
                 local: view,
                 first: task.rows.start,
-                top: &mut top,
+                top: Top::Read(&top_copy),
                 top_index: &self.top_index,
             };
             sweep(
@@ -335,8 +348,15 @@ unsafe impl Sync for LaneCells {}
 struct LaneRows<'a, 'b> {
     local: &'a mut [Lane],
     first: usize,
-    top: &'b mut [Lane],
+    top: Top<'b>,
     top_index: &'b [usize],
+}
+
+/// The top rows of a task: updated in the forward sweep, read in the
+/// backward one.
+enum Top<'b> {
+    Write(&'b mut [Lane]),
+    Read(&'b [Lane]),
 }
 
 #[derive(Copy, Clone, PartialEq)]
@@ -396,6 +416,167 @@ fn sweep_with<const FMA: bool>(
     }
 }
 
+/// Whether supernode `s` of the top is worth splitting between threads.
+fn large(factor: SupernodalLdltRef<'_, usize, f64>, s: usize) -> bool {
+    let block = factor.supernode(s).val();
+    block.nrows() * block.ncols() >= 1 << 16
+}
+
+/// The forward step of a large supernode of the top (`x` all rows): its
+/// pattern rows split between threads.
+fn top_forward(fma: bool, factor: SupernodalLdltRef<'_, usize, f64>, s: usize, x: &mut [Lane]) {
+    let node = factor.supernode(s);
+    let block = node.val();
+    let size = block.ncols();
+    let (head, tail) = x.split_at_mut(node.start() + size);
+    let xs = &mut head[node.start()..];
+    triangular(fma, block, xs, Sweep::Forward);
+    par_scatter(
+        fma,
+        block,
+        size,
+        xs,
+        tail,
+        node.pattern(),
+        node.start() + size,
+    );
+    for (i, x) in xs.iter_mut().enumerate() {
+        let d = block[(i, i)].recip();
+        for v in x.0.iter_mut() {
+            *v *= d;
+        }
+    }
+}
+
+/// `out[rows[p] - off] -= block[from + p, ..] X_s`, halves of the rows in
+/// parallel (the rows ascend, so each half owns a range of `out`).
+fn par_scatter(
+    fma: bool,
+    block: MatRef<'_, f64>,
+    from: usize,
+    xs: &[Lane],
+    out: &mut [Lane],
+    rows: &[usize],
+    off: usize,
+) {
+    if rows.len() * xs.len() < 1 << 15 || rows.len() < 64 {
+        dispatch_scatter(fma, block, from, xs, out, rows, off);
+        return;
+    }
+    let mid = rows.len() / 2;
+    let cut = rows[mid] - off;
+    let (lo, hi) = out.split_at_mut(cut);
+    rayon::join(
+        || par_scatter(fma, block, from, xs, lo, &rows[..mid], off),
+        || par_scatter(fma, block, from + mid, xs, hi, &rows[mid..], off + cut),
+    );
+}
+
+/// The backward step of a large supernode of the top: its columns split
+/// between threads, each gathering from all pattern rows.
+fn top_backward(fma: bool, factor: SupernodalLdltRef<'_, usize, f64>, s: usize, x: &mut [Lane]) {
+    const COLUMNS: usize = 64;
+    let node = factor.supernode(s);
+    let block = node.val();
+    let size = block.ncols();
+    let (head, tail) = x.split_at_mut(node.start() + size);
+    let xs = &mut head[node.start()..];
+    let (rows, off) = (node.pattern(), node.start() + size);
+    let src: &[Lane] = tail;
+    xs.par_chunks_mut(COLUMNS)
+        .enumerate()
+        .for_each(|(k, chunk)| {
+            dispatch_gather(fma, block, k * COLUMNS, size, src, rows, off, chunk)
+        });
+    triangular(fma, block, xs, Sweep::Backward);
+}
+
+/// [`scatter`] from the rows `rows[p] - off`, compiled for the CPU.
+fn dispatch_scatter(
+    fma: bool,
+    block: MatRef<'_, f64>,
+    from: usize,
+    xs: &[Lane],
+    out: &mut [Lane],
+    rows: &[usize],
+    off: usize,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if fma {
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn avx2(
+            block: MatRef<'_, f64>,
+            from: usize,
+            xs: &[Lane],
+            out: &mut [Lane],
+            rows: &[usize],
+            off: usize,
+        ) {
+            scatter::<true>(block, 0, from, xs, out, |p| rows[p] - off, rows.len());
+        }
+        // SAFETY: the CPU has AVX2 and FMA (`has_fma`).
+        unsafe { avx2(block, from, xs, out, rows, off) };
+        return;
+    }
+    scatter::<false>(block, 0, from, xs, out, |p| rows[p] - off, rows.len());
+}
+
+/// [`gather`] into the columns `j0..` from the rows `rows[p] - off`,
+/// compiled for the CPU.
+#[allow(clippy::too_many_arguments)]
+fn dispatch_gather(
+    fma: bool,
+    block: MatRef<'_, f64>,
+    j0: usize,
+    from: usize,
+    src: &[Lane],
+    rows: &[usize],
+    off: usize,
+    xs: &mut [Lane],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if fma {
+        #[allow(clippy::too_many_arguments)]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn avx2(
+            block: MatRef<'_, f64>,
+            j0: usize,
+            from: usize,
+            src: &[Lane],
+            rows: &[usize],
+            off: usize,
+            xs: &mut [Lane],
+        ) {
+            gather::<true>(block, j0, from, src, |p| rows[p] - off, rows.len(), xs);
+        }
+        // SAFETY: the CPU has AVX2 and FMA (`has_fma`).
+        unsafe { avx2(block, j0, from, src, rows, off, xs) };
+        return;
+    }
+    gather::<false>(block, j0, from, src, |p| rows[p] - off, rows.len(), xs);
+}
+
+/// The diagonal block's solve of a step, compiled for the CPU.
+fn triangular(fma: bool, block: MatRef<'_, f64>, xs: &mut [Lane], dir: Sweep) {
+    #[cfg(target_arch = "x86_64")]
+    if fma {
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn avx2(block: MatRef<'_, f64>, xs: &mut [Lane], dir: Sweep) {
+            match dir {
+                Sweep::Forward => lower_solve::<true>(block, xs),
+                Sweep::Backward => upper_solve::<true>(block, xs),
+            }
+        }
+        // SAFETY: the CPU has AVX2 and FMA (`has_fma`).
+        unsafe { avx2(block, xs, dir) };
+        return;
+    }
+    match dir {
+        Sweep::Forward => lower_solve::<false>(block, xs),
+        Sweep::Backward => upper_solve::<false>(block, xs),
+    }
+}
+
 /// Column `j` of a column-major block, rows `from..to`.
 #[inline(always)]
 fn column(block: MatRef<'_, f64>, j: usize, from: usize, to: usize) -> &[f64] {
@@ -442,12 +623,16 @@ fn lane_step<const FMA: bool>(
     match dir {
         Sweep::Forward => {
             lower_solve::<FMA>(block, xs);
-            scatter::<FMA>(block, size, xs, tail, |p| local[p] - off, inside);
+            scatter::<FMA>(block, 0, size, xs, tail, |p| local[p] - off, inside);
+            let Top::Write(top_lanes) = &mut rows.top else {
+                unreachable!("a forward sweep writes its top rows")
+            };
             scatter::<FMA>(
                 block,
+                0,
                 size + inside,
                 xs,
-                rows.top,
+                top_lanes,
                 |p| top_index[top[p]],
                 m - size - inside,
             );
@@ -460,11 +645,16 @@ fn lane_step<const FMA: bool>(
             }
         }
         Sweep::Backward => {
-            gather::<FMA>(block, size, tail, |p| local[p] - off, inside, xs);
+            gather::<FMA>(block, 0, size, tail, |p| local[p] - off, inside, xs);
+            let top_lanes: &[Lane] = match &rows.top {
+                Top::Write(t) => t,
+                Top::Read(t) => t,
+            };
             gather::<FMA>(
                 block,
+                0,
                 size + inside,
-                rows.top,
+                top_lanes,
                 |p| top_index[top[p]],
                 m - size - inside,
                 xs,
@@ -474,14 +664,29 @@ fn lane_step<const FMA: bool>(
     }
 }
 
-/// `X_s = L_ss^-1 X_s` with the unit lower-triangular top of `block`.
+/// `X_s = L_ss^-1 X_s` with the unit lower-triangular top of `block`: by
+/// blocks of `width` columns, the triangle of a block then the rows below
+/// it within the diagonal block (as a [`scatter`]).
 #[inline(always)]
 fn lower_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
     let n = xs.len();
-    for j in 0..n {
-        let xj = xs[j].0;
-        let col = column(block, j, 0, n);
-        for i in j + 1..n {
+    let mut j = 0;
+    while j < n {
+        let w = 4.min(n - j);
+        lower_triangle::<FMA>(block, j, w, xs);
+        let (left, right) = xs.split_at_mut(j + w);
+        scatter::<FMA>(block, j, j + w, &left[j..], right, |p| p, n - j - w);
+        j += w;
+    }
+}
+
+/// The triangle of the columns `j..j + w` of [`lower_solve`].
+#[inline(always)]
+fn lower_triangle<const FMA: bool>(block: MatRef<'_, f64>, j: usize, w: usize, xs: &mut [Lane]) {
+    for jj in j..j + w {
+        let xj = xs[jj].0;
+        let col = column(block, jj, 0, j + w);
+        for i in jj + 1..j + w {
             let l = -col[i];
             let xi = &mut xs[i].0;
             for q in 0..LANE {
@@ -491,21 +696,36 @@ fn lower_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
     }
 }
 
-/// `X_s = L_ss^-T X_s`.
+/// `X_s = L_ss^-T X_s`: by blocks of 4 columns from the last, the rows
+/// below a block (as a [`gather`]) then its triangle.
 #[inline(always)]
 fn upper_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
     let n = xs.len();
-    for j in (0..n).rev() {
-        let col = column(block, j, 0, n);
-        let mut acc = xs[j].0;
-        for i in j + 1..n {
+    let mut end = n;
+    while end > 0 {
+        let w = 4.min(end);
+        let j = end - w;
+        let (left, right) = xs.split_at_mut(end);
+        gather::<FMA>(block, j, end, right, |p| p, n - end, &mut left[j..]);
+        upper_triangle::<FMA>(block, j, w, xs);
+        end = j;
+    }
+}
+
+/// The triangle of the columns `j..j + w` of [`upper_solve`].
+#[inline(always)]
+fn upper_triangle<const FMA: bool>(block: MatRef<'_, f64>, j: usize, w: usize, xs: &mut [Lane]) {
+    for jj in (j..j + w).rev() {
+        let col = column(block, jj, 0, j + w);
+        let mut acc = xs[jj].0;
+        for i in jj + 1..j + w {
             let l = -col[i];
             let xi = &xs[i].0;
             for q in 0..LANE {
                 acc[q] = madd::<FMA>(l, xi[q], acc[q]);
             }
         }
-        xs[j].0 = acc;
+        xs[jj].0 = acc;
     }
 }
 
@@ -516,6 +736,7 @@ fn upper_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
 #[inline(always)]
 fn scatter<const FMA: bool>(
     block: MatRef<'_, f64>,
+    j0: usize,
     from: usize,
     xs: &[Lane],
     out: &mut [Lane],
@@ -530,10 +751,10 @@ fn scatter<const FMA: bool>(
     let mut j = 0;
     while j + 4 <= size {
         let c = [
-            column(block, j, from, to),
-            column(block, j + 1, from, to),
-            column(block, j + 2, from, to),
-            column(block, j + 3, from, to),
+            column(block, j0 + j, from, to),
+            column(block, j0 + j + 1, from, to),
+            column(block, j0 + j + 2, from, to),
+            column(block, j0 + j + 3, from, to),
         ];
         let x = [xs[j].0, xs[j + 1].0, xs[j + 2].0, xs[j + 3].0];
         for p in 0..count {
@@ -551,7 +772,7 @@ fn scatter<const FMA: bool>(
         j += 4;
     }
     for j in j..size {
-        let c = column(block, j, from, to);
+        let c = column(block, j0 + j, from, to);
         let x = xs[j].0;
         for p in 0..count {
             let l = -c[p];
@@ -570,6 +791,7 @@ fn scatter<const FMA: bool>(
 #[inline(always)]
 fn gather<const FMA: bool>(
     block: MatRef<'_, f64>,
+    j0: usize,
     from: usize,
     src: &[Lane],
     row: impl Fn(usize) -> usize,
@@ -584,10 +806,10 @@ fn gather<const FMA: bool>(
     let mut j = 0;
     while j + 4 <= size {
         let c = [
-            column(block, j, from, to),
-            column(block, j + 1, from, to),
-            column(block, j + 2, from, to),
-            column(block, j + 3, from, to),
+            column(block, j0 + j, from, to),
+            column(block, j0 + j + 1, from, to),
+            column(block, j0 + j + 2, from, to),
+            column(block, j0 + j + 3, from, to),
         ];
         let mut acc = [[0.0; LANE]; 4];
         for p in 0..count {
@@ -607,7 +829,7 @@ fn gather<const FMA: bool>(
         j += 4;
     }
     for j in j..size {
-        let c = column(block, j, from, to);
+        let c = column(block, j0 + j, from, to);
         let mut acc = [0.0; LANE];
         for p in 0..count {
             let l = c[p];
