@@ -141,11 +141,15 @@ impl SymbolicLdlt {
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
         let sym = &*self.inner;
-        values.clear();
-        values.resize(sym.len_val(), 0.0);
         if let (Some(plan), Some(updates), SymbolicCholeskyRaw::Supernodal(s)) =
             (&self.plan, &self.updates, sym.raw())
         {
+            // Every block is cleared where it is factorised: reused storage
+            // of this length is taken as it is, new storage zeroed by the
+            // allocator (pages touched first by the threads that fill them).
+            if values.len() != sym.len_val() {
+                *values = vec![0.0; sym.len_val()];
+            }
             let identity: Vec<usize>;
             let inverse = match sym.perm() {
                 Some(p) => p.arrays().1,
@@ -163,6 +167,8 @@ impl SymbolicLdlt {
                 },
             );
         }
+        values.clear();
+        values.resize(sym.len_val(), 0.0);
         let par = faer::get_global_parallelism();
         let mut mem =
             MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
