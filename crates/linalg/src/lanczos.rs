@@ -91,6 +91,20 @@ impl Default for LanczosParams {
     }
 }
 
+/// The operator of a free body on a statically determinate support (report
+/// 5.2.2, eq. 20): `K` held at the `support` equations is regular, and on
+/// loads in equilibrium (`P = I - M T T^T`, `T` the M-orthonormal
+/// rigid-body modes) its inverse is the elastic flexibility, so
+/// `OP = T_perp K_held^-1 P M` has `theta = 1 / lambda` on the elastic
+/// modes: shift-invert at shift 0, on the factor the inertia-relief
+/// attachment modes use. The rigid-body modes enter as known (`lambda =
+/// 0`), the Lanczos run deflates them.
+#[derive(Copy, Clone, Debug)]
+pub struct Held<'a> {
+    pub support: &'a [usize],
+    pub rigid: MatRef<'a, f64>,
+}
+
 /// Outcome of the Sturm check.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct SturmReport {
@@ -160,7 +174,7 @@ pub fn lanczos(
     let t = Instant::now();
     let pencil = ShiftedPencil::analyze_reporting(k, m, params.ordering, progress)?;
     let seconds = t.elapsed().as_secs_f64();
-    let mut found = lanczos_on(&pencil, None, wanted, params, progress)?;
+    let mut found = lanczos_on(&pencil, None, wanted, None, params, progress)?;
     found.stats.analysis_seconds = seconds;
     Ok(found)
 }
@@ -168,11 +182,15 @@ pub fn lanczos(
 /// [`lanczos`] on a pencil the caller has analysed, e.g. to solve static
 /// modes with the same analysis first. A `factor` of the pencil that the
 /// caller no longer needs becomes the Lanczos operator when its shift is
-/// `params.shift`; otherwise its storage is reused.
+/// `params.shift`; otherwise its storage is reused. With `held`, the
+/// operator is the free body's on its support ([`Held`]) at shift 0, and
+/// `factor`, if given, must be the held factor
+/// ([`ShiftedPencil::factorize_static`] of `held.support`).
 pub fn lanczos_on(
     pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
     wanted: Wanted,
+    held: Option<Held<'_>>,
     params: &LanczosParams,
     progress: &dyn Progress,
 ) -> Result<SparseEigen, LinalgError> {
@@ -190,17 +208,27 @@ pub fn lanczos_on(
     if trace_m == 0.0 || n == 0 {
         return Err(LinalgError::NotPositiveDefinite { index: 0 });
     }
-    let sigma = params
-        .shift
-        .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE));
+    let sigma = match held {
+        Some(_) => 0.0,
+        None => params
+            .shift
+            .unwrap_or(-1e-6 * (trace_k / trace_m).max(f64::MIN_POSITIVE)),
+    };
     let (factor, spare) = match factor {
-        Some(f) if !f.is_fixed() && f.shift() == sigma => (Some(f), Vec::new()),
+        Some(f) if held.is_some() && f.is_fixed() => (Some(f), Vec::new()),
+        Some(f) if held.is_none() && !f.is_fixed() && f.shift() == sigma => (Some(f), Vec::new()),
         Some(f) => (None, f.into_storage()),
         None => (None, Vec::new()),
     };
+    let held = held.map(|h| HeldState {
+        support: h.support.to_vec(),
+        rigid: h.rigid.to_owned(),
+        m_rigid: pencil.mul_mass(h.rigid),
+    });
     let mut op = Operator {
         pencil,
         sigma,
+        held: held.as_ref(),
         factor,
         spare,
         progress,
@@ -244,14 +272,24 @@ pub fn lanczos_on(
     let first_factorization = op.factorization_seconds;
     let t = Instant::now();
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    let mut locked = Locked {
-        x: Mat::zeros(n, 0),
-        theta: vec![],
+    // The rigid-body modes of a held operator are known: theta = 1 / 0.
+    let mut locked = match &held {
+        Some(h) => Locked {
+            x: h.rigid.clone(),
+            theta: vec![f64::INFINITY; h.rigid.ncols()],
+        },
+        None => Locked {
+            x: Mat::zeros(n, 0),
+            theta: vec![],
+        },
     };
-    let mut found = krylov_schur(
-        &mut op, &locked, nev, params, progress, &mut rng, &mut stats,
-    )?;
-    locked.append(found);
+    let left = nev.saturating_sub(locked.theta.len());
+    if left > 0 {
+        let found = krylov_schur(
+            &mut op, &locked, left, params, progress, &mut rng, &mut stats,
+        )?;
+        locked.append(found);
+    }
     // The run's blocks are free now: their pages go back before the Sturm
     // factorisation takes its own.
     crate::memory::release_free_memory();
@@ -291,7 +329,7 @@ pub fn lanczos_on(
                 break;
             }
             attempts += 1;
-            found = krylov_schur(
+            let found = krylov_schur(
                 &mut op,
                 &locked,
                 count - have,
@@ -396,6 +434,7 @@ fn residuals_of(
 struct Operator<'p> {
     pencil: &'p ShiftedPencil,
     sigma: f64,
+    held: Option<&'p HeldState>,
     factor: Option<ShiftedFactor>,
     /// Storage of a factor no longer held, reused by the next one.
     spare: Vec<f64>,
@@ -415,16 +454,22 @@ impl Operator<'_> {
         if self.factor.is_none() {
             let t = Instant::now();
             let sigma = self.sigma;
-            self.progress.report(&Stage::Factorization { shift: sigma });
-            let f = self
-                .pencil
-                .refactorize(sigma, std::mem::take(&mut self.spare))?;
-            let seconds = t.elapsed().as_secs_f64();
-            self.factorization_seconds += seconds;
-            self.progress.report(&Stage::Factorized {
-                shift: sigma,
-                seconds,
-            });
+            let f = match self.held {
+                // Reports its own stages.
+                Some(h) => self.pencil.factorize_static(&h.support, self.progress)?,
+                None => {
+                    self.progress.report(&Stage::Factorization { shift: sigma });
+                    let f = self
+                        .pencil
+                        .refactorize(sigma, std::mem::take(&mut self.spare))?;
+                    self.progress.report(&Stage::Factorized {
+                        shift: sigma,
+                        seconds: t.elapsed().as_secs_f64(),
+                    });
+                    f
+                }
+            };
+            self.factorization_seconds += t.elapsed().as_secs_f64();
             self.factor = Some(f);
         }
         let f = self.factor.as_ref().expect("factorised above");
@@ -475,6 +520,23 @@ impl Operator<'_> {
 
     /// `(K - sigma M)^-1 Y` for `Y = M V` given, in its storage.
     fn solve(&mut self, mut x: Mat<f64>) -> Result<Mat<f64>, LinalgError> {
+        if let Some(h) = self.held {
+            // P Y: the loads in equilibrium, none on the support.
+            let c = h.rigid.transpose() * &x;
+            matmul(
+                x.as_mut(),
+                Accum::Add,
+                h.m_rigid.as_ref(),
+                c.as_ref(),
+                -1.0,
+                faer::Par::Seq,
+            );
+            for &i in &h.support {
+                for j in 0..x.ncols() {
+                    x[(i, j)] = 0.0;
+                }
+            }
+        }
         let factor = self.factorize()?;
         let t = Instant::now();
         factor.solve_in_place(x.as_mut());
@@ -491,6 +553,13 @@ impl Operator<'_> {
         self.mass_seconds += t.elapsed().as_secs_f64();
         mx
     }
+}
+
+/// [`Held`], owned: the support, `T` and `M T`.
+struct HeldState {
+    support: Vec<usize>,
+    rigid: Mat<f64>,
+    m_rigid: Mat<f64>,
 }
 
 /// Converged vectors and their `theta`.

@@ -15,9 +15,9 @@
 
 use super::{complement, expand};
 use crate::ReduceError;
-use faer::Mat;
+use faer::{Mat, MatRef};
 use flexbody_linalg::eigen::generalized_symmetric;
-use flexbody_linalg::lanczos::{lanczos, lanczos_on, LanczosParams, SparseEigen, Wanted};
+use flexbody_linalg::lanczos::{lanczos, lanczos_on, Held, LanczosParams, SparseEigen, Wanted};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, SparseMat};
@@ -135,7 +135,7 @@ pub fn eigenmodes_owned(
     let progress = flexbody_linalg::progress::global();
     let pencil = ShiftedPencil::analyze_reporting(&stiffness, &mass, Ordering::Auto, &*progress)?;
     drop((stiffness, mass));
-    let found = lanczos_band(&pencil, None, band, None)?;
+    let found = lanczos_band(&pencil, None, band, None, None)?;
     Ok((found.pairs, found.residuals))
 }
 
@@ -216,7 +216,23 @@ pub fn eigenmodes_on(
     band: Band,
     shift: Option<f64>,
 ) -> Result<EigenModes, ReduceError> {
-    Ok(lanczos_band(pencil, factor, band, shift)?.pairs)
+    Ok(lanczos_band(pencil, factor, band, shift, None)?.pairs)
+}
+
+/// [`eigenmodes_on`] for a free body through its operator on a statically
+/// determinate support ([`Held`]): `factor` the held factor the
+/// inertia-relief attachment modes were solved with, which then serves the
+/// Lanczos run too (shift 0); the rigid-body modes `rigid` (M-orthonormal)
+/// are among the modes returned.
+pub fn free_eigenmodes_on(
+    pencil: &ShiftedPencil,
+    factor: ShiftedFactor,
+    band: Band,
+    support: &[usize],
+    rigid: MatRef<'_, f64>,
+) -> Result<EigenModes, ReduceError> {
+    let held = Held { support, rigid };
+    Ok(lanczos_band(pencil, Some(factor), band, None, Some(held))?.pairs)
 }
 
 /// The Lanczos solve of [`eigenmodes_on`] with its residuals; fewer modes
@@ -226,6 +242,7 @@ fn lanczos_band(
     factor: Option<ShiftedFactor>,
     band: Band,
     shift: Option<f64>,
+    held: Option<Held<'_>>,
 ) -> Result<SparseEigen, ReduceError> {
     let wanted = match band {
         Band::Lowest(count) => Wanted::Lowest(count),
@@ -236,7 +253,7 @@ fn lanczos_band(
         ..Default::default()
     };
     let progress = flexbody_linalg::progress::global();
-    let found = lanczos_on(pencil, factor, wanted, &params, &*progress)?;
+    let found = lanczos_on(pencil, factor, wanted, held, &params, &*progress)?;
     if let Band::Lowest(count) = band {
         if found.pairs.values.len() < count {
             return Err(ReduceError::NotEnoughModes {

@@ -2,13 +2,16 @@
 //! analysis: the inertia-relief attachment modes (eq. 18-20) and the free
 //! eigenmodes.
 //!
-//! On a large model both come from the pencil of `K - sigma M`: its
+//! On a large model both come from one factorisation: the pencil's
 //! ordering and symbolic analysis serve the factorisation of `K` held on
 //! the statically determinate support (those rows and columns decoupled,
-//! same pattern) and then the Lanczos solver, which reuses that factor's
-//! storage. Small models take the separate dense path.
+//! same pattern), which solves the attachment modes and then is the
+//! Lanczos operator itself: on loads in equilibrium its inverse is the
+//! elastic flexibility, shift-invert at shift 0 with the rigid-body modes
+//! deflated ([`flexbody_linalg::lanczos::Held`]). Only the Sturm check
+//! factorises once more. Small models take the separate dense path.
 
-use super::eigen::{eigenmodes, eigenmodes_in, eigenmodes_on, Band, SPARSE_FROM};
+use super::eigen::{eigenmodes, eigenmodes_in, free_eigenmodes_on, Band, SPARSE_FROM};
 use super::inertia_relief::{
     check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
 };
@@ -75,6 +78,12 @@ pub fn inertia_relief_and_free_modes(
         held.solve_in_place(p_g.as_mut());
         p_g
     })?;
-    let all = enough(eigenmodes_on(&pencil, Some(held), at_least(band), None)?)?;
+    let all = enough(free_eigenmodes_on(
+        &pencil,
+        held,
+        at_least(band),
+        support,
+        rigid.vectors.as_ref(),
+    )?)?;
     Ok((t_a, all))
 }
