@@ -210,6 +210,17 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
             "Lanczos step {step}: {converged} of {wanted} modes converged \
              ({solves} solves, basis {basis})"
         ),
+        Stage::LanczosDone {
+            solves,
+            block_solves,
+            solve_seconds,
+            products,
+            mass_seconds,
+            seconds,
+        } => format!(
+            "Lanczos done ({seconds:.1} s): {solves} solves in {block_solves} sweeps \
+             ({solve_seconds:.1} s), {products} products with M ({mass_seconds:.1} s)"
+        ),
         Stage::SturmCheck {
             bound,
             count,

@@ -143,6 +143,8 @@ pub struct LanczosStats {
     pub solve_seconds: f64,
     /// Of which the products with `M`.
     pub mass_seconds: f64,
+    /// Right-hand sides multiplied by `M` in the iterations.
+    pub mass_products: usize,
     pub sturm_seconds: f64,
 }
 
@@ -236,6 +238,7 @@ pub fn lanczos_on(
         block_solves: 0,
         solve_seconds: 0.0,
         mass_seconds: 0.0,
+        mass_products: 0,
         factorization_seconds: 0.0,
         sturm_seconds: 0.0,
     };
@@ -290,6 +293,14 @@ pub fn lanczos_on(
         )?;
         locked.append(found);
     }
+    progress.report(&Stage::LanczosDone {
+        solves: op.solves,
+        block_solves: op.block_solves,
+        solve_seconds: op.solve_seconds,
+        products: op.mass_products,
+        mass_seconds: op.mass_seconds,
+        seconds: t.elapsed().as_secs_f64(),
+    });
     // The run's blocks are free now: their pages go back before the Sturm
     // factorisation takes its own.
     crate::memory::release_free_memory();
@@ -345,6 +356,7 @@ pub fn lanczos_on(
     stats.block_solves = op.block_solves;
     stats.solve_seconds = op.solve_seconds;
     stats.mass_seconds = op.mass_seconds;
+    stats.mass_products = op.mass_products;
     stats.factorization_seconds = op.factorization_seconds;
     stats.sturm_seconds = op.sturm_seconds;
     stats.iteration_seconds = t.elapsed().as_secs_f64()
@@ -443,6 +455,7 @@ struct Operator<'p> {
     block_solves: usize,
     solve_seconds: f64,
     mass_seconds: f64,
+    mass_products: usize,
     factorization_seconds: f64,
     sturm_seconds: f64,
 }
@@ -551,6 +564,7 @@ impl Operator<'_> {
         let t = Instant::now();
         let mx = self.pencil.mul_mass(x);
         self.mass_seconds += t.elapsed().as_secs_f64();
+        self.mass_products += x.ncols();
         mx
     }
 }

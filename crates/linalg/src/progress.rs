@@ -30,6 +30,18 @@ pub enum Stage {
         wanted: usize,
         basis: usize,
     },
+    /// The Lanczos iterations finished (before the Sturm check): `solves`
+    /// right-hand sides in `block_solves` sweeps through `L`, taking
+    /// `solve_seconds`; `products` right-hand sides multiplied by `M`,
+    /// taking `mass_seconds`; `seconds` in all.
+    LanczosDone {
+        solves: usize,
+        block_solves: usize,
+        solve_seconds: f64,
+        products: usize,
+        mass_seconds: f64,
+        seconds: f64,
+    },
     /// The Sturm check at `bound` counts `count` eigenvalues below it, of
     /// which the solver had found `found`; when `count > found` it continues.
     SturmCheck {
