@@ -150,22 +150,8 @@ impl SymbolicLdlt {
             if values.len() != sym.len_val() {
                 *values = vec![0.0; sym.len_val()];
             }
-            let identity: Vec<usize>;
-            let inverse = match sym.perm() {
-                Some(p) => p.arrays().1,
-                None => {
-                    identity = (0..self.dim()).collect();
-                    &identity
-                }
-            };
-            return crate::numeric::factorize(s, plan, updates, a, inverse, values).map_err(
-                // As faer reports it: 1-based, in elimination order.
-                |index| LinalgError::Singular {
-                    index: index.saturating_sub(1).min(self.dim().saturating_sub(1)),
-                    pivot: 0.0,
-                    diagonal: 0.0,
-                },
-            );
+            return crate::numeric::factorize(s, plan, updates, a, &self.inverse(), values)
+                .map_err(|index| self.zero_pivot(index));
         }
         values.clear();
         values.resize(sym.len_val(), 0.0);
@@ -183,14 +169,27 @@ impl SymbolicLdlt {
             Default::default(),
         );
         if let Err(faer::linalg::cholesky::ldlt::factor::LdltError::ZeroPivot { index }) = result {
-            // faer reports the pivot 1-based, in elimination order.
-            return Err(LinalgError::Singular {
-                index: index.saturating_sub(1).min(self.dim().saturating_sub(1)),
-                pivot: 0.0,
-                diagonal: 0.0,
-            });
+            return Err(self.zero_pivot(index));
         }
         Ok(())
+    }
+
+    /// The error of a vanished pivot, `index` as faer reports it: 1-based,
+    /// in elimination order.
+    fn zero_pivot(&self, index: usize) -> LinalgError {
+        LinalgError::Singular {
+            index: index.saturating_sub(1).min(self.dim().saturating_sub(1)),
+            pivot: 0.0,
+            diagonal: 0.0,
+        }
+    }
+
+    /// `inverse[old] = new` of the fill-reducing permutation.
+    fn inverse(&self) -> std::borrow::Cow<'_, [usize]> {
+        match self.inner.perm() {
+            Some(p) => std::borrow::Cow::Borrowed(p.arrays().1),
+            None => std::borrow::Cow::Owned((0..self.dim()).collect()),
+        }
     }
 
     /// Solves `L D L^T X = B` in place with the factor `values`: in parallel
@@ -199,15 +198,7 @@ impl SymbolicLdlt {
     pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
         let sym = &*self.inner;
         if let (Some(plan), SymbolicCholeskyRaw::Supernodal(s)) = (&self.plan, sym.raw()) {
-            let identity: Vec<usize>;
-            let inverse = match sym.perm() {
-                Some(p) => p.arrays().1,
-                None => {
-                    identity = (0..self.dim()).collect();
-                    &identity
-                }
-            };
-            plan.solve_in_place(SupernodalLdltRef::new(s, values), inverse, x);
+            plan.solve_in_place(SupernodalLdltRef::new(s, values), &self.inverse(), x);
             return;
         }
         let par = faer::get_global_parallelism();

@@ -587,6 +587,17 @@ fn column(block: MatRef<'_, f64>, j: usize, from: usize, to: usize) -> &[f64] {
     &col.as_slice()[from..to]
 }
 
+/// Columns `j..j + 4` of a column-major block, rows `from..to`.
+#[inline(always)]
+fn four_columns(block: MatRef<'_, f64>, j: usize, from: usize, to: usize) -> [&[f64]; 4] {
+    [
+        column(block, j, from, to),
+        column(block, j + 1, from, to),
+        column(block, j + 2, from, to),
+        column(block, j + 3, from, to),
+    ]
+}
+
 #[inline(always)]
 fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     if FMA {
@@ -750,12 +761,7 @@ fn scatter<const FMA: bool>(
     let to = from + count;
     let mut j = 0;
     while j + 4 <= size {
-        let c = [
-            column(block, j0 + j, from, to),
-            column(block, j0 + j + 1, from, to),
-            column(block, j0 + j + 2, from, to),
-            column(block, j0 + j + 3, from, to),
-        ];
+        let c = four_columns(block, j0 + j, from, to);
         let x = [xs[j].0, xs[j + 1].0, xs[j + 2].0, xs[j + 3].0];
         for p in 0..count {
             let l = [-c[0][p], -c[1][p], -c[2][p], -c[3][p]];
@@ -805,12 +811,7 @@ fn gather<const FMA: bool>(
     let to = from + count;
     let mut j = 0;
     while j + 4 <= size {
-        let c = [
-            column(block, j0 + j, from, to),
-            column(block, j0 + j + 1, from, to),
-            column(block, j0 + j + 2, from, to),
-            column(block, j0 + j + 3, from, to),
-        ];
+        let c = four_columns(block, j0 + j, from, to);
         let mut acc = [[0.0; LANE]; 4];
         for p in 0..count {
             let y = &src[row(p)].0;
