@@ -440,6 +440,12 @@ fn top_forward(fma: bool, factor: SupernodalLdltRef<'_, usize, f64>, s: usize, x
         node.pattern(),
         node.start() + size,
     );
+    scale_by_pivots(block, xs);
+}
+
+/// `X_s = D_s^-1 X_s`, the pivots on the diagonal of the block.
+#[inline(always)]
+fn scale_by_pivots(block: MatRef<'_, f64>, xs: &mut [Lane]) {
     for (i, x) in xs.iter_mut().enumerate() {
         let d = block[(i, i)].recip();
         for v in x.0.iter_mut() {
@@ -648,12 +654,7 @@ fn lane_step<const FMA: bool>(
                 m - size - inside,
             );
             // X_s is final: D^-1 now, while it is in cache.
-            for (i, x) in xs.iter_mut().enumerate() {
-                let d = block[(i, i)].recip();
-                for v in x.0.iter_mut() {
-                    *v *= d;
-                }
-            }
+            scale_by_pivots(block, xs);
         }
         Sweep::Backward => {
             gather::<FMA>(block, 0, size, tail, |p| local[p] - off, inside, xs);
