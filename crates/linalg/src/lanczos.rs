@@ -187,7 +187,8 @@ pub fn lanczos(
 /// `params.shift`; otherwise its storage is reused. With `held`, the
 /// operator is the free body's on its support ([`Held`]) at shift 0, and
 /// `factor`, if given, must be the held factor
-/// ([`ShiftedPencil::factorize_static`] of `held.support`).
+/// ([`ShiftedPencil::factorize_static`] of `held.support`), and a count
+/// must ask for at least one elastic mode.
 pub fn lanczos_on(
     pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
@@ -222,6 +223,17 @@ pub fn lanczos_on(
         Some(f) => (None, f.into_storage()),
         None => (None, Vec::new()),
     };
+    if let (Some(h), Wanted::Lowest(count)) = (&held, wanted) {
+        // The Sturm check's bound lies just above the highest mode found:
+        // with the rigid-body modes alone it would sit on them.
+        if count <= h.rigid.ncols() {
+            return Err(LinalgError::Dimension(format!(
+                "{count} modes of a free body with {} rigid-body modes: the held \
+                 operator needs at least one elastic mode",
+                h.rigid.ncols()
+            )));
+        }
+    }
     let held = held.map(|h| HeldState {
         support: h.support.to_vec(),
         rigid: h.rigid.to_owned(),
