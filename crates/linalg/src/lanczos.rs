@@ -235,9 +235,8 @@ pub fn lanczos_on(
         }
     }
     let held = held.map(|h| HeldState {
-        support: h.support.to_vec(),
-        rigid: h.rigid.to_owned(),
         m_rigid: pencil.mul_mass(h.rigid),
+        held: h,
     });
     let mut op = Operator {
         pencil,
@@ -290,8 +289,8 @@ pub fn lanczos_on(
     // The rigid-body modes of a held operator are known: theta = 1 / 0.
     let mut locked = match &held {
         Some(h) => Locked {
-            x: h.rigid.clone(),
-            theta: vec![f64::INFINITY; h.rigid.ncols()],
+            x: h.held.rigid.to_owned(),
+            theta: vec![f64::INFINITY; h.held.rigid.ncols()],
         },
         None => Locked {
             x: Mat::zeros(n, 0),
@@ -458,7 +457,7 @@ fn residuals_of(
 struct Operator<'p> {
     pencil: &'p ShiftedPencil,
     sigma: f64,
-    held: Option<&'p HeldState>,
+    held: Option<&'p HeldState<'p>>,
     factor: Option<ShiftedFactor>,
     /// Storage of a factor no longer held, reused by the next one.
     spare: Vec<f64>,
@@ -481,7 +480,9 @@ impl Operator<'_> {
             let sigma = self.sigma;
             let f = match self.held {
                 // Reports its own stages.
-                Some(h) => self.pencil.factorize_static(&h.support, self.progress)?,
+                Some(h) => self
+                    .pencil
+                    .factorize_static(h.held.support, self.progress)?,
                 None => {
                     self.progress.report(&Stage::Factorization { shift: sigma });
                     let f = self
@@ -547,7 +548,7 @@ impl Operator<'_> {
     fn solve(&mut self, mut x: Mat<f64>) -> Result<Mat<f64>, LinalgError> {
         if let Some(h) = self.held {
             // P Y: the loads in equilibrium, none on the support.
-            let c = h.rigid.transpose() * &x;
+            let c = h.held.rigid.transpose() * &x;
             matmul(
                 x.as_mut(),
                 Accum::Add,
@@ -556,7 +557,7 @@ impl Operator<'_> {
                 -1.0,
                 faer::Par::Seq,
             );
-            for &i in &h.support {
+            for &i in h.held.support {
                 for j in 0..x.ncols() {
                     x[(i, j)] = 0.0;
                 }
@@ -581,10 +582,9 @@ impl Operator<'_> {
     }
 }
 
-/// [`Held`], owned: the support, `T` and `M T`.
-struct HeldState {
-    support: Vec<usize>,
-    rigid: Mat<f64>,
+/// [`Held`] with `M T`.
+struct HeldState<'a> {
+    held: Held<'a>,
     m_rigid: Mat<f64>,
 }
 

@@ -89,10 +89,11 @@ impl SymbolicLdlt {
             .map_err(fail)?,
         };
         let (plan, updates) = match inner.raw() {
-            SymbolicCholeskyRaw::Supernodal(s) => (
-                Some(Arc::new(SolvePlan::new(s, rayon::current_num_threads()))),
-                Some(Arc::new(UpdatePlan::new(s))),
-            ),
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let plan = SolvePlan::new(s, rayon::current_num_threads());
+                let updates = UpdatePlan::new(s, &plan);
+                (Some(Arc::new(plan)), Some(Arc::new(updates)))
+            }
             SymbolicCholeskyRaw::Simplicial(_) => (None, None),
         };
         Ok(Self {

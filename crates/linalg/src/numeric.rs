@@ -26,17 +26,22 @@ use faer::sparse::SparseColMatRef;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-/// Which descendants update which supernode; computed once per analysis.
+/// Which descendants update which supernode, and the tree of the plan's
+/// top; computed once per analysis.
 #[derive(Clone, Debug)]
 pub(crate) struct UpdatePlan {
     /// `descendants[ptr[s]..ptr[s + 1]]`: the supernodes whose pattern has a
     /// row among the columns of `s`, ascending.
     ptr: Vec<usize>,
     descendants: Vec<u32>,
+    /// The top supernodes without a parent in the top.
+    top_roots: Vec<usize>,
+    /// `top_children[s]`: the children of `s` in the top.
+    top_children: Vec<Vec<usize>>,
 }
 
 impl UpdatePlan {
-    pub(crate) fn new(symbolic: &SymbolicSupernodalCholesky<usize>) -> Self {
+    pub(crate) fn new(symbolic: &SymbolicSupernodalCholesky<usize>, plan: &SolvePlan) -> Self {
         let ns = symbolic.n_supernodes();
         let begin = symbolic.supernode_begin();
         let end = symbolic.supernode_end();
@@ -75,7 +80,24 @@ impl UpdatePlan {
                 next[s as usize] += 1;
             }
         }
-        Self { ptr, descendants }
+        let mut in_top = vec![false; ns];
+        for &s in &plan.top {
+            in_top[s] = true;
+        }
+        let mut top_children: Vec<Vec<usize>> = vec![vec![]; ns];
+        let mut top_roots = Vec::new();
+        for &s in &plan.top {
+            match parent(symbolic, s) {
+                Some(p) if in_top[p] => top_children[p].push(s),
+                _ => top_roots.push(s),
+            }
+        }
+        Self {
+            ptr,
+            descendants,
+            top_roots,
+            top_children,
+        }
     }
 
     fn of(&self, s: usize) -> &[u32] {
@@ -155,27 +177,16 @@ pub(crate) fn factorize(
     // supernode after its children there, siblings in parallel.
     plan.tasks
         .par_iter()
-        .map(|task| {
-            let mut buffers = Buffers::new(symbolic.nrows());
-            task.supernodes
-                .clone()
-                .try_for_each(|s| work.supernode(s, &mut buffers, Par::Seq))
-        })
+        .map_init(
+            || Buffers::new(symbolic.nrows()),
+            |buffers, task| {
+                task.supernodes
+                    .clone()
+                    .try_for_each(|s| work.supernode(s, buffers, Par::Seq))
+            },
+        )
         .collect::<Result<Vec<()>, usize>>()?;
-    let ns = symbolic.n_supernodes();
-    let mut in_top = vec![false; ns];
-    for &s in &plan.top {
-        in_top[s] = true;
-    }
-    let mut children: Vec<Vec<usize>> = vec![vec![]; ns];
-    let mut roots = Vec::new();
-    for &s in &plan.top {
-        match parent(symbolic, s) {
-            Some(p) if in_top[p] => children[p].push(s),
-            _ => roots.push(s),
-        }
-    }
-    work.subtrees(&roots, &children)
+    work.subtrees(&updates.top_roots, &updates.top_children)
 }
 
 /// The supernode of the first row below `s`'s diagonal block.
@@ -229,11 +240,13 @@ impl Work<'_> {
     fn subtrees(&self, roots: &[usize], children: &[Vec<usize>]) -> Result<(), usize> {
         roots
             .par_iter()
-            .map(|&s| {
-                self.subtrees(&children[s], children)?;
-                let mut buffers = Buffers::new(self.symbolic.nrows());
-                self.supernode(s, &mut buffers, self.par)
-            })
+            .map_init(
+                || Buffers::new(self.symbolic.nrows()),
+                |buffers, &s| {
+                    self.subtrees(&children[s], children)?;
+                    self.supernode(s, buffers, self.par)
+                },
+            )
             .collect::<Result<Vec<()>, usize>>()
             .map(|_| ())
     }
