@@ -8,8 +8,9 @@
 //! more can drop them. The values of `A(sigma)` are `k - sigma m` entry by
 //! entry. The symbolic analysis ([`SymbolicLdlt`]: ordering, elimination
 //! tree, supernodes, the plan of parallel solves) is computed once from the
-//! pattern and shared by every shift. The numeric factorisation is faer's
-//! supernodal `LDL^T` without pivoting: `A(sigma)` is positive definite
+//! pattern and shared by every shift. The numeric factorisation is a
+//! supernodal `LDL^T` without pivoting in faer's layout, parallel over the
+//! elimination tree ([`crate::ldlt`]): `A(sigma)` is positive definite
 //! below the spectrum and, above it, stable enough for the inertia that a
 //! Sturm check needs (the practice of Lanczos codes in FE programs).
 
