@@ -39,19 +39,27 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
     let nnz = row_idx.len();
     let mut k = vec![0.0; nnz];
     let mut m = vec![0.0; nnz];
-    let colors = color_elements(model, &touched);
+    let batches = batches(n, &touched);
     drop(touched);
-    for color in colors {
-        let k_out = SharedSlice(k.as_mut_ptr());
-        let m_out = SharedSlice(m.as_mut_ptr());
+    let k_out = SharedSlice(k.as_mut_ptr());
+    let m_out = SharedSlice(m.as_mut_ptr());
+    for color in batches {
         color
             .par_iter()
-            .try_for_each(|&e| -> Result<(), FemError> {
-                let element = &model.elements()[e];
-                let em = element.matrices(model)?;
-                // Safety: elements of one colour share no node, hence no DOF, so
-                // no two of them touch the same column entries.
-                unsafe { scatter(&em, &equations[e], &col_ptr, &row_idx, k_out, m_out) };
+            .try_for_each_init(Vec::new, |sorted, batch| -> Result<(), FemError> {
+                for &e in batch {
+                    let em = model.elements()[e].matrices(model)?;
+                    let terms = &equations[e];
+                    // Safety: the batches of one colour share no equation, and
+                    // a batch's elements are added one after another.
+                    if terms.iter().all(|t| !matches!(t, Terms::Combination(_))) {
+                        unsafe {
+                            scatter_direct(&em, terms, &col_ptr, &row_idx, k_out, m_out, sorted)
+                        };
+                    } else {
+                        unsafe { scatter(&em, terms, &col_ptr, &row_idx, k_out, m_out) };
+                    }
+                }
                 Ok(())
             })?;
     }
@@ -154,10 +162,23 @@ fn pattern(n: usize, equations: &[Vec<usize>]) -> (Vec<usize>, Vec<usize>) {
             fill[*i] += 1;
         }
     }
-    let columns: Vec<Vec<usize>> = (0..n)
-        .into_par_iter()
-        .map(|j| {
-            let mut rows: Vec<usize> = elements_of[count[j]..count[j + 1]]
+    // Consecutive columns with the same elements (the DOFs of one node) share
+    // their rows: each group's rows are found once.
+    let mut groups = Vec::new();
+    let mut j = 0;
+    while j < n {
+        let elements = &elements_of[count[j]..count[j + 1]];
+        let mut end = j + 1;
+        while end < n && &elements_of[count[end]..count[end + 1]] == elements {
+            end += 1;
+        }
+        groups.push(j..end);
+        j = end;
+    }
+    let rows_of: Vec<Vec<usize>> = groups
+        .par_iter()
+        .map(|g| {
+            let mut rows: Vec<usize> = elements_of[count[g.start]..count[g.start + 1]]
                 .iter()
                 .flat_map(|&e| equations[e].iter().copied())
                 .collect();
@@ -168,38 +189,75 @@ fn pattern(n: usize, equations: &[Vec<usize>]) -> (Vec<usize>, Vec<usize>) {
         .collect();
     let mut col_ptr = Vec::with_capacity(n + 1);
     col_ptr.push(0);
-    for c in &columns {
-        col_ptr.push(col_ptr.last().copied().unwrap_or(0) + c.len());
+    for (g, rows) in groups.iter().zip(&rows_of) {
+        for _ in g.clone() {
+            col_ptr.push(col_ptr.last().copied().unwrap_or(0) + rows.len());
+        }
     }
     let mut row_idx = Vec::with_capacity(col_ptr[n]);
-    for c in columns {
-        row_idx.extend(c);
+    for (g, rows) in groups.iter().zip(&rows_of) {
+        for _ in g.clone() {
+            row_idx.extend_from_slice(rows);
+        }
     }
     (col_ptr, row_idx)
 }
 
-/// Greedy colouring: elements of one colour share no equation.
-fn color_elements(model: &Model, equations: &[Vec<usize>]) -> Vec<Vec<usize>> {
-    let n = model.dof_map().len();
-    // Last colour that touched each equation, per colour round.
-    let mut colors: Vec<Vec<usize>> = Vec::new();
+/// Elements in an order for parallel scatter: colours, run one after
+/// another; each colour's batches of elements share no equation and run in
+/// parallel; a batch runs in order.
+///
+/// Batches are runs of [`BATCH`] consecutive elements, so that a thread adds
+/// neighbouring elements into the same columns while they are in cache (mesh
+/// generators number elements in space). Where that needs more than
+/// [`MAX_BATCH_COLORS`] colours (elements in no spatial order), each element
+/// is a batch of its own.
+fn batches(n: usize, equations: &[Vec<usize>]) -> Vec<Vec<Vec<usize>>> {
+    let runs: Vec<Vec<usize>> = (0..equations.len())
+        .collect::<Vec<_>>()
+        .chunks(BATCH)
+        .map(<[usize]>::to_vec)
+        .collect();
+    color(n, runs, equations, MAX_BATCH_COLORS).unwrap_or_else(|| {
+        let singles = (0..equations.len()).map(|e| vec![e]).collect();
+        color(n, singles, equations, usize::MAX).unwrap_or_default()
+    })
+}
+
+/// Consecutive elements per batch.
+const BATCH: usize = 256;
+
+/// Most colours of batches before elements are coloured one by one.
+const MAX_BATCH_COLORS: usize = 8;
+
+/// Greedy colouring of `batches`: batches of one colour share no equation.
+/// `None` if more than `max_colors` colours are needed.
+fn color(
+    n: usize,
+    batches: Vec<Vec<usize>>,
+    equations: &[Vec<usize>],
+    max_colors: usize,
+) -> Option<Vec<Vec<Vec<usize>>>> {
+    let mut colors: Vec<Vec<Vec<usize>>> = Vec::new();
+    // Equations each colour touches.
     let mut used: Vec<Vec<bool>> = Vec::new();
-    for (e, eq) in equations.iter().enumerate() {
-        let free = used.iter().position(|u| eq.iter().all(|&i| !u[i]));
-        let c = match free {
+    for batch in batches {
+        let touches = || batch.iter().flat_map(|&e| equations[e].iter().copied());
+        let c = match used.iter().position(|u| touches().all(|i| !u[i])) {
             Some(c) => c,
-            None => {
+            None if colors.len() < max_colors => {
                 used.push(vec![false; n]);
                 colors.push(Vec::new());
                 colors.len() - 1
             }
+            None => return None,
         };
-        for &i in eq {
+        for i in touches() {
             used[c][i] = true;
         }
-        colors[c].push(e);
+        colors[c].push(batch);
     }
-    colors
+    Some(colors)
 }
 
 /// A raw pointer that may be shared between threads writing disjoint entries.
@@ -207,6 +265,52 @@ fn color_elements(model: &Model, equations: &[Vec<usize>]) -> Vec<Vec<usize>> {
 struct SharedSlice(*mut f64);
 unsafe impl Send for SharedSlice {}
 unsafe impl Sync for SharedSlice {}
+
+/// Adds the K and M of an element without coupled DOFs into the value
+/// arrays. The element's equations are sorted once; each of its columns then
+/// finds all of them in one forward walk over the column's sorted rows.
+///
+/// # Safety
+/// As [`scatter`]; `terms` has no [`Terms::Combination`].
+unsafe fn scatter_direct(
+    em: &ElementMatrices,
+    terms: &[Terms],
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    k: SharedSlice,
+    m: SharedSlice,
+    sorted: &mut Vec<(usize, usize)>,
+) {
+    sorted.clear();
+    sorted.extend(terms.iter().enumerate().filter_map(|(a, t)| match t {
+        Terms::Direct(i) => Some((*i, a)),
+        _ => None,
+    }));
+    sorted.sort_unstable();
+    let (ks, ms) = (em.stiffness.as_ref(), em.mass.as_ref());
+    for &(j, b) in sorted.iter() {
+        let kb = ks.col(b).try_as_col_major().map(|c| c.as_slice());
+        let mb = ms.col(b).try_as_col_major().map(|c| c.as_slice());
+        let (Some(kb), Some(mb)) = (kb, mb) else {
+            unreachable!("element matrices are column-major")
+        };
+        let start = col_ptr[j];
+        let rows = &row_idx[start..col_ptr[j + 1]];
+        let mut p = 0;
+        for &(i, a) in sorted.iter() {
+            // The pattern holds every (i, j) of every element, in order.
+            match rows[p..].iter().position(|&r| r == i) {
+                Some(q) => p += q,
+                None => continue,
+            }
+            let at = start + p;
+            unsafe {
+                *k.0.add(at) += kb[a];
+                *m.0.add(at) += mb[a];
+            }
+        }
+    }
+}
 
 /// Adds an element's K and M into the value arrays, through the terms of
 /// its DOFs: `K_ij += sum_ab c_ai c_bj K_e,ab`.
@@ -275,6 +379,101 @@ mod tests {
             }
         }
         (k, m)
+    }
+
+    /// A C3D8 brick of `nx * ny * nz` unit-ish elements, free, its elements
+    /// listed in the order `order(e)` of the mesh order `e`.
+    fn brick(nx: usize, ny: usize, nz: usize, order: impl Fn(usize) -> usize) -> Model {
+        use crate::element::{Solid, SolidKind};
+        let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
+        let mut nodes = Vec::new();
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    let x = [i as f64, 0.9 * j as f64, 1.1 * k as f64 + 0.05 * i as f64];
+                    nodes.push(Node {
+                        id: id(i, j, k),
+                        coords: x,
+                    });
+                }
+            }
+        }
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let mut mesh = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let c = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)];
+                    let mut ids: Vec<u64> =
+                        c.iter().map(|&(a, b, _)| id(i + a, j + b, k)).collect();
+                    ids.extend(c.iter().map(|&(a, b, _)| id(i + a, j + b, k + 1)));
+                    mesh.push(ids);
+                }
+            }
+        }
+        let elements = (0..mesh.len())
+            .map(|e| {
+                Element::Solid(Solid {
+                    id: e + 1,
+                    kind: SolidKind::C3D8,
+                    nodes: mesh[order(e)].clone(),
+                    material: steel.clone(),
+                })
+            })
+            .collect();
+        Model::new(nodes, elements, BTreeMap::new(), Vec::new(), None).unwrap()
+    }
+
+    #[test]
+    fn batched_assembly_of_a_solid_mesh_equals_dense_assembly_in_any_element_order() {
+        // 360 elements: two batches, which share nodes in either order.
+        let (nx, ny, nz) = (12, 6, 5);
+        let count = nx * ny * nz;
+        for shuffled in [false, true] {
+            let model = brick(nx, ny, nz, |e| if shuffled { (e * 97) % 360 } else { e });
+            assert_eq!(model.elements().len(), count);
+            let s = assemble(&model).unwrap();
+            let (k, m) = dense(&model);
+            let scale = flexbody_linalg::sparse::max_abs(k.as_ref());
+            let dk = s.stiffness.to_dense() - &k;
+            assert!(flexbody_linalg::sparse::max_abs(dk.as_ref()) <= 1e-15 * scale);
+            let dm = s.mass.to_dense() - &m;
+            let m_scale = flexbody_linalg::sparse::max_abs(m.as_ref());
+            assert!(flexbody_linalg::sparse::max_abs(dm.as_ref()) <= 1e-15 * m_scale);
+        }
+    }
+
+    #[test]
+    fn batches_of_one_colour_share_no_equation_and_cover_every_element_once() {
+        // 2880 elements, 12 batches: in mesh order a batch touches only its
+        // neighbours; shuffled, all of them, and elements are coloured singly.
+        let (nx, ny, nz) = (24, 12, 10);
+        for shuffled in [false, true] {
+            let model = brick(nx, ny, nz, |e| if shuffled { (e * 97) % 2880 } else { e });
+            let equations: Vec<Vec<usize>> = model
+                .elements()
+                .iter()
+                .map(|e| equations_of(&element_equations(&model, e)))
+                .collect();
+            let n = model.dof_map().len();
+            let colors = batches(n, &equations);
+            let batch_len = colors.iter().flatten().map(Vec::len).max().unwrap();
+            assert_eq!(batch_len, if shuffled { 1 } else { BATCH });
+            let mut seen = vec![0; equations.len()];
+            for color in &colors {
+                let mut owner = vec![usize::MAX; n];
+                for (b, batch) in color.iter().enumerate() {
+                    for &e in batch {
+                        seen[e] += 1;
+                        for &i in &equations[e] {
+                            assert!(owner[i] == usize::MAX || owner[i] == b);
+                            owner[i] = b;
+                        }
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&c| c == 1));
+        }
     }
 
     #[test]
