@@ -10,6 +10,11 @@ use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod huge_pages;
+
+#[global_allocator]
+static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
+
 /// `println!` that ends the program quietly when stdout is closed (`| head`),
 /// instead of panicking on the broken pipe.
 macro_rules! say {
