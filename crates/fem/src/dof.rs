@@ -1,9 +1,9 @@
 //! Degrees of freedom: six kinds per node, and the map from (node, kind) to
 //! equation numbers.
 
+use crate::id_hash::{id_map, IdMap};
 use crate::model::NodeId;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 use std::fmt;
 
 /// A nodal DOF kind: translations `ux, uy, uz` (m) and rotations
@@ -84,13 +84,14 @@ impl fmt::Display for Dof {
 pub struct DofMap {
     dofs: Vec<Dof>,
     #[serde(skip)]
-    index: HashMap<Dof, usize>,
+    index: IdMap<Dof, usize>,
 }
 
 impl DofMap {
     /// Builds the map from a list of DOFs (equation `i` is `dofs[i]`).
     pub fn new(dofs: Vec<Dof>) -> Self {
-        let index = dofs.iter().enumerate().map(|(i, d)| (*d, i)).collect();
+        let mut index = id_map(dofs.len());
+        index.extend(dofs.iter().enumerate().map(|(i, d)| (*d, i)));
         Self { dofs, index }
     }
 
@@ -128,7 +129,9 @@ impl DofMap {
 
     /// Rebuilds the lookup table after deserialisation.
     pub fn reindex(&mut self) {
-        self.index = self.dofs.iter().enumerate().map(|(i, d)| (*d, i)).collect();
+        self.index = id_map(self.dofs.len());
+        self.index
+            .extend(self.dofs.iter().enumerate().map(|(i, d)| (*d, i)));
     }
 }
 

@@ -8,6 +8,7 @@ pub mod assembly;
 pub mod coupling;
 pub mod dof;
 pub mod element;
+pub mod id_hash;
 pub mod model;
 pub mod section;
 pub mod substructure;

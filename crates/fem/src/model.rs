@@ -4,9 +4,10 @@
 use crate::coupling::{Constraints, Coupling};
 use crate::dof::{Dof, DofKind, DofMap};
 use crate::element::Element;
+use crate::id_hash::{id_map, IdMap};
 use crate::FemError;
 use serde::{Deserialize, Serialize};
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet};
 
 /// User node number (as in the model file).
 pub type NodeId = u64;
@@ -30,7 +31,7 @@ pub struct Rayleigh {
 #[derive(Clone, Debug)]
 pub struct Model {
     nodes: Vec<Node>,
-    node_index: HashMap<NodeId, usize>,
+    node_index: IdMap<NodeId, usize>,
     elements: Vec<Element>,
     node_sets: BTreeMap<String, Vec<NodeId>>,
     fixed: BTreeSet<Dof>,
@@ -50,7 +51,7 @@ impl Model {
         fixed: Vec<Dof>,
         rayleigh: Option<Rayleigh>,
     ) -> Result<Self, FemError> {
-        let mut node_index = HashMap::with_capacity(nodes.len());
+        let mut node_index = id_map(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
             if node_index.insert(n.id, i).is_some() {
                 return Err(FemError::DuplicateNode(n.id));
@@ -122,7 +123,7 @@ impl Model {
     /// create, minus the fixed ones and the couplings' dependent ones. Point
     /// masses only load DOFs that exist.
     fn build_dof_map(&mut self) -> Result<DofMap, FemError> {
-        let mut active: BTreeSet<(usize, DofKind)> = BTreeSet::new();
+        let mut active = Active::new(self.nodes.len());
         for e in &self.elements {
             if e.creates_dofs() {
                 for d in e.dofs() {
@@ -211,7 +212,7 @@ impl Model {
             }
         }
         let dofs: Vec<Dof> = active
-            .into_iter()
+            .iter()
             .map(|(i, k)| Dof::new(self.nodes[i].id, k))
             .filter(|d| !self.fixed.contains(d) && !constraints.contains_key(d))
             .collect();
@@ -320,5 +321,32 @@ impl Model {
             }
         }
         c
+    }
+}
+
+/// The DOF kinds each node has, by node index: a set of `(node index,
+/// kind)` that iterates in that order.
+struct Active(Vec<u8>);
+
+impl Active {
+    fn new(nodes: usize) -> Self {
+        Self(vec![0; nodes])
+    }
+
+    fn insert(&mut self, (node, kind): (usize, DofKind)) {
+        self.0[node] |= 1 << kind.index();
+    }
+
+    fn contains(&self, &(node, kind): &(usize, DofKind)) -> bool {
+        self.0[node] & (1 << kind.index()) != 0
+    }
+
+    fn iter(&self) -> impl Iterator<Item = (usize, DofKind)> + '_ {
+        self.0.iter().enumerate().flat_map(|(node, &bits)| {
+            DofKind::ALL
+                .into_iter()
+                .filter(move |k| bits & (1 << k.index()) != 0)
+                .map(move |k| (node, k))
+        })
     }
 }

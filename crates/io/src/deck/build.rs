@@ -8,6 +8,7 @@ use super::keywords::{ElementType, Reader};
 use super::properties::{spring_properties, RawSection, SectionData, SpringProperties};
 use crate::InputError;
 use flexbody_fem::element::{AxialSpring, Beam, PointMass, Solid, Spring};
+use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
 use flexbody_fem::{BeamProperties, BeamTheory, Dof, Element, FemError, Material, Model, NodeId};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -37,8 +38,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         ..
     } = reader;
 
-    let node_ids: HashSet<NodeId> = nodes.iter().map(|n| n.id).collect();
-    let element_index: HashMap<usize, usize> =
+    let node_ids: IdSet<NodeId> = nodes.iter().map(|n| n.id).collect();
+    let element_index: IdMap<usize, usize> =
         raw.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
     // In order of definition: a set that copies another comes after it, so
     // an undefined id is reported for the set that lists it.
@@ -112,7 +113,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         springs: HashMap::new(),
     };
     let mut elements = Vec::with_capacity(raw.len());
-    let mut element_loc: HashMap<usize, Loc> = HashMap::with_capacity(raw.len());
+    let mut element_loc: IdMap<usize, Loc> = id_map(raw.len());
     for (ei, e) in raw.iter().enumerate() {
         let Some(si) = section_of[ei] else {
             return Err(files.error(
@@ -201,9 +202,10 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
 
     // Fixed DOFs: only those an element creates (CalculiX also ignores
     // rotations fixed on nodes of solid elements).
-    let active: HashSet<Dof> = elements
+    let fixed_nodes: IdSet<NodeId> = fixed.iter().map(|(d, _)| d.node).collect();
+    let active: IdSet<Dof> = elements
         .iter()
-        .filter(|e| e.creates_dofs())
+        .filter(|e| e.creates_dofs() && e.nodes().iter().any(|n| fixed_nodes.contains(n)))
         .flat_map(Element::dofs)
         .collect();
     let mut kept = Vec::with_capacity(fixed.len());
