@@ -138,6 +138,77 @@ impl LowerPattern {
         &self.col_ptr
     }
 
+    /// The pattern of the entries of `values` that are not zero (and every
+    /// diagonal entry), with those values: the mass matrix of solid elements
+    /// couples no two directions, so on the pattern it shares with the
+    /// stiffness two thirds of its entries are zeros that a product would
+    /// read for nothing.
+    pub fn without_zeros(&self, values: &[f64]) -> (Self, Vec<f64>) {
+        let n = self.dim();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let (mut row_idx, mut kept) = (Vec::new(), Vec::new());
+        for j in 0..n {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            for (q, (&i, &v)) in self.row_idx[range.clone()]
+                .iter()
+                .zip(&values[range.clone()])
+                .enumerate()
+            {
+                if q == 0 || v != 0.0 {
+                    row_idx.push(i);
+                    kept.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        (Self { col_ptr, row_idx }, kept)
+    }
+
+    /// `a += s B` for `a` on this pattern and `B` (`b` on `sub`, a pattern
+    /// whose columns are subsets of this one's), columns in parallel.
+    pub fn add_scaled(&self, a: &mut [f64], s: f64, sub: &LowerPattern, b: &[f64]) {
+        assert_eq!(
+            sub.dim(),
+            self.dim(),
+            "LowerPattern::add_scaled: dimensions"
+        );
+        self.add_scaled_cols(0..self.dim(), a, s, sub, b);
+    }
+
+    fn add_scaled_cols(
+        &self,
+        cols: std::ops::Range<usize>,
+        a: &mut [f64],
+        s: f64,
+        sub: &LowerPattern,
+        b: &[f64],
+    ) {
+        if cols.len() > FILL_CHUNK {
+            let mid = cols.start + cols.len() / 2;
+            let (left, right) = a.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
+            rayon::join(
+                || self.add_scaled_cols(cols.start..mid, left, s, sub, b),
+                || self.add_scaled_cols(mid..cols.end, right, s, sub, b),
+            );
+            return;
+        }
+        let base = self.col_ptr[cols.start];
+        for j in cols {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            let rows = &self.row_idx[range.clone()];
+            let a = &mut a[range.start - base..range.end - base];
+            let mut p = 0;
+            let sub_range = sub.col_ptr[j]..sub.col_ptr[j + 1];
+            for (&i, &v) in sub.row_idx[sub_range.clone()].iter().zip(&b[sub_range]) {
+                while rows[p] != i {
+                    p += 1;
+                }
+                a[p] += s * v;
+            }
+        }
+    }
+
     /// The values of the lower triangle of `a` (a matrix whose lower
     /// triangle lies in this pattern) on the pattern, columns in parallel.
     pub fn values_of(&self, a: &SparseMat) -> Vec<f64> {
@@ -412,6 +483,27 @@ mod tests {
         assert_eq!(mv, union.values_of(&m));
         assert!(LowerPattern::of_shared(&k, &m).is_some());
         assert!(LowerPattern::of_shared(&k, &sample(5000, 2)).is_none());
+    }
+
+    /// Dropping the zeros keeps every diagonal entry, and a matrix added
+    /// back from its own pattern gives the values on the union.
+    #[test]
+    fn a_pattern_without_zeros_keeps_products_and_adds_back_onto_the_union() {
+        let n = 3000;
+        let (k, m) = (sample(n, 0), sample(n, 2));
+        let pattern = LowerPattern::union(&[&k, &m]);
+        let (kv, mv) = (pattern.values_of(&k), pattern.values_of(&m));
+        let (compact, cv) = pattern.without_zeros(&mv);
+        assert!(compact.len() < pattern.len());
+        assert_eq!(compact.len(), (m.compute_nnz() + n) / 2);
+        assert_eq!(compact.diagonal(&cv), pattern.diagonal(&mv));
+        let b = Mat::from_fn(n, 9, |i, j| ((i * 5 + j * 3) % 13) as f64 - 6.0);
+        let got = compact.mul(&cv, b.as_ref());
+        assert!(crate::sparse::max_abs((got - pattern.mul(&mv, b.as_ref())).as_ref()) < 1e-12);
+        let mut shifted = kv.clone();
+        pattern.add_scaled(&mut shifted, -2.5, &compact, &cv);
+        let want: Vec<f64> = kv.iter().zip(&mv).map(|(k, m)| k - 2.5 * m).collect();
+        assert_eq!(shifted, want);
     }
 
     #[test]
