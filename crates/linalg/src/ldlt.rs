@@ -65,13 +65,26 @@ impl SymbolicLdlt {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         ordering: Ordering,
     ) -> Result<Self, LinalgError> {
+        let ordering = ordering.resolve(pattern.nrows());
+        let permutation = match ordering {
+            Ordering::NestedDissection => Some(nested_dissection(pattern)?),
+            _ => None,
+        };
+        Self::analyze_permuted(pattern, permutation)
+    }
+
+    /// [`Self::analyze_pattern`] with the nested-dissection permutation
+    /// `(forward, inverse)` of `pattern` already computed (from a pattern
+    /// with the same lower triangle), or `None` for faer's AMD.
+    pub fn analyze_permuted(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        permutation: Option<(Vec<usize>, Vec<usize>)>,
+    ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
-        let ordering = ordering.resolve(n);
         let fail = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
-        let inner = match ordering {
-            Ordering::NestedDissection => {
-                let (fwd, inv) = nested_dissection(pattern)?;
-                let perm = PermRef::new_checked(&fwd, &inv, n);
+        let inner = match &permutation {
+            Some((fwd, inv)) => {
+                let perm = PermRef::new_checked(fwd, inv, n);
                 factorize_symbolic_cholesky(
                     pattern,
                     Side::Lower,
@@ -80,13 +93,18 @@ impl SymbolicLdlt {
                 )
                 .map_err(fail)?
             }
-            _ => factorize_symbolic_cholesky(
+            None => factorize_symbolic_cholesky(
                 pattern,
                 Side::Lower,
                 SymmetricOrdering::Amd,
                 Default::default(),
             )
             .map_err(fail)?,
+        };
+        let ordering = if permutation.is_some() {
+            Ordering::NestedDissection
+        } else {
+            Ordering::Amd
         };
         let (plan, updates) = match inner.raw() {
             SymbolicCholeskyRaw::Supernodal(s) => {

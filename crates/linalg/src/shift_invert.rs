@@ -16,7 +16,7 @@
 
 use crate::ldlt::SymbolicLdlt;
 use crate::lower::LowerPattern;
-use crate::ordering::Ordering;
+use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
 use faer::sparse::SparseColMatRef;
@@ -85,9 +85,26 @@ impl ShiftedPencil {
                 u32::MAX
             )));
         }
-        let (pattern, kv, mv) = LowerPattern::of_pair(k, m);
-        let (mass_pattern, mv) = pattern.without_zeros(&mv);
-        let symbolic = pattern.with_symbolic(|p| SymbolicLdlt::analyze_pattern(p, ordering))?;
+        // METIS (serial) runs on K's own pattern while the other thread
+        // copies the lower triangles; when M has entries off K's pattern the
+        // ordering waits for their union.
+        let ordering = ordering.resolve(n);
+        let nested = ordering == Ordering::NestedDissection;
+        let same_pattern = k.col_ptr() == m.col_ptr() && k.row_idx() == m.row_idx();
+        let (permutation, (pattern, kv, mass_pattern, mv)) = rayon::join(
+            || (nested && same_pattern).then(|| nested_dissection(k.symbolic())),
+            || {
+                let (pattern, kv, mv) = LowerPattern::of_pair(k, m);
+                let (mass_pattern, mv) = pattern.without_zeros(&mv);
+                (pattern, kv, mass_pattern, mv)
+            },
+        );
+        let permutation = match permutation {
+            Some(p) => Some(p?),
+            None if nested => Some(pattern.with_symbolic(nested_dissection)?),
+            None => None,
+        };
+        let symbolic = pattern.with_symbolic(|p| SymbolicLdlt::analyze_permuted(p, permutation))?;
         Ok(Self {
             pattern,
             k: kv,
