@@ -17,6 +17,7 @@
 
 pub mod ffrf;
 pub mod format;
+mod json_layout;
 pub mod mtx;
 pub mod sid;
 pub mod vtk;
@@ -273,7 +274,7 @@ pub(crate) fn json_block_at(text: &str, line: usize) -> String {
 pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
     let doc = BodyFile::new(body)?;
     write_atomically(path, |out| {
-        serde_json::to_writer_pretty(&mut *out, &doc).map_err(std::io::Error::other)?;
+        json_layout::to_writer(&mut *out, &doc).map_err(std::io::Error::other)?;
         out.write_all(b"\n")
     })
 }
