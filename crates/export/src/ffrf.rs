@@ -366,7 +366,7 @@ pub fn mass_invariants(
         }
     }
     let j: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|b| rr[(3 + a, 3 + b)]));
-    let mphi = m * phi;
+    let mphi = flexbody_linalg::sparse::symmetric_mul(m, phi.as_ref());
     let coupling = mphi.transpose() * &rigid; // nq x 6
     let ct = Mat::from_fn(nq, 3, |k, a| coupling[(k, a)]);
     let cr = Mat::from_fn(nq, 3, |k, a| coupling[(k, 3 + a)]);

@@ -7,14 +7,14 @@
 //! groups decouple in the reduced equations.
 
 use faer::Mat;
-use flexbody_linalg::SparseMat;
+use flexbody_linalg::{sparse, SparseMat};
 
 /// `T_res = T_stat - Phi Phi^T M T_stat` for M-orthonormal `phi`.
 pub fn residual_modes(static_modes: &Mat<f64>, phi: &Mat<f64>, mass: &SparseMat) -> Mat<f64> {
     if phi.ncols() == 0 {
         return static_modes.clone();
     }
-    let mt = mass * static_modes;
+    let mt = sparse::symmetric_mul(mass, static_modes.as_ref());
     let c = phi.transpose() * &mt;
     static_modes - phi * &c
 }
