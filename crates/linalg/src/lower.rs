@@ -173,31 +173,7 @@ impl LowerPattern {
             self.dim(),
             "LowerPattern::add_scaled: dimensions"
         );
-        self.add_scaled_cols(0..self.dim(), a, s, sub, b);
-    }
-
-    fn add_scaled_cols(
-        &self,
-        cols: std::ops::Range<usize>,
-        a: &mut [f64],
-        s: f64,
-        sub: &LowerPattern,
-        b: &[f64],
-    ) {
-        if cols.len() > FILL_CHUNK {
-            let mid = cols.start + cols.len() / 2;
-            let (left, right) = a.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
-            rayon::join(
-                || self.add_scaled_cols(cols.start..mid, left, s, sub, b),
-                || self.add_scaled_cols(mid..cols.end, right, s, sub, b),
-            );
-            return;
-        }
-        let base = self.col_ptr[cols.start];
-        for j in cols {
-            let range = self.col_ptr[j]..self.col_ptr[j + 1];
-            let rows = &self.row_idx[range.clone()];
-            let a = &mut a[range.start - base..range.end - base];
+        self.by_column_chunks(0..self.dim(), a, &|j, rows, a| {
             let mut p = 0;
             let sub_range = sub.col_ptr[j]..sub.col_ptr[j + 1];
             for (&i, &v) in sub.row_idx[sub_range.clone()].iter().zip(&b[sub_range]) {
@@ -206,6 +182,35 @@ impl LowerPattern {
                 }
                 a[p] += s * v;
             }
+        });
+    }
+
+    /// Calls `f(j, rows, values)` for every column `j` in `cols` with its
+    /// rows and its part of `values` (an array over the pattern's entries
+    /// from column `cols.start` on), chunks of columns in parallel.
+    fn by_column_chunks(
+        &self,
+        cols: std::ops::Range<usize>,
+        values: &mut [f64],
+        f: &(impl Fn(usize, &[u32], &mut [f64]) + Sync),
+    ) {
+        if cols.len() > FILL_CHUNK {
+            let mid = cols.start + cols.len() / 2;
+            let (left, right) = values.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
+            rayon::join(
+                || self.by_column_chunks(cols.start..mid, left, f),
+                || self.by_column_chunks(mid..cols.end, right, f),
+            );
+            return;
+        }
+        let base = self.col_ptr[cols.start];
+        for j in cols {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            f(
+                j,
+                &self.row_idx[range.clone()],
+                &mut values[range.start - base..range.end - base],
+            );
         }
     }
 
@@ -213,25 +218,7 @@ impl LowerPattern {
     /// triangle lies in this pattern) on the pattern, columns in parallel.
     pub fn values_of(&self, a: &SparseMat) -> Vec<f64> {
         let mut out = vec![0.0; self.len()];
-        self.fill(0..self.dim(), a, &mut out);
-        out
-    }
-
-    fn fill(&self, cols: std::ops::Range<usize>, a: &SparseMat, out: &mut [f64]) {
-        if cols.len() > FILL_CHUNK {
-            let mid = cols.start + cols.len() / 2;
-            let (left, right) = out.split_at_mut(self.col_ptr[mid] - self.col_ptr[cols.start]);
-            rayon::join(
-                || self.fill(cols.start..mid, a, left),
-                || self.fill(mid..cols.end, a, right),
-            );
-            return;
-        }
-        let base = self.col_ptr[cols.start];
-        for j in cols {
-            let range = self.col_ptr[j]..self.col_ptr[j + 1];
-            let col = &self.row_idx[range.clone()];
-            let out = &mut out[range.start - base..range.end - base];
+        self.by_column_chunks(0..self.dim(), &mut out, &|j, col, out| {
             // Sorted columns in the usual case: a merge walk, with a binary
             // search for an unsorted input.
             let mut p = 0;
@@ -249,7 +236,8 @@ impl LowerPattern {
                     p = 0;
                 }
             }
-        }
+        });
+        out
     }
 
     /// The diagonal of the matrix with `values` on this pattern.
