@@ -7,7 +7,7 @@
 //! in the original row order so that a vanishing pivot names the DOF where a
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
-use crate::numeric::UpdatePlan;
+use crate::numeric::{Input, UpdatePlan};
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::Stage;
 use crate::supernodal::SolvePlan;
@@ -159,19 +159,69 @@ impl SymbolicLdlt {
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        let sym = &*self.inner;
-        if let (Some(plan), Some(updates), SymbolicCholeskyRaw::Supernodal(s)) =
-            (&self.plan, &self.updates, sym.raw())
-        {
-            // Every block is cleared where it is factorised: reused storage
-            // of this length is taken as it is, new storage zeroed by the
-            // allocator (pages touched first by the threads that fill them).
-            if values.len() != sym.len_val() {
-                *values = vec![0.0; sym.len_val()];
-            }
-            return crate::numeric::factorize(s, plan, updates, a, &self.inverse(), values)
-                .map_err(|index| self.zero_pivot(index));
+        if let Some(result) = self.factorize_supernodal(Input::Faer(a), values) {
+            return result;
         }
+        self.factorize_simplicial(a, values)
+    }
+
+    /// [`Self::factorize_into`] for the lower triangle in compressed
+    /// columns with 32-bit rows (`col_ptr`, `row_idx`, `a`): the
+    /// supernodal factorisation reads them as they are; only a small,
+    /// simplicial one widens the rows for faer.
+    pub(crate) fn factorize_compact_into(
+        &self,
+        col_ptr: &[usize],
+        row_idx: &[u32],
+        a: &[f64],
+        values: &mut Vec<f64>,
+    ) -> Result<(), LinalgError> {
+        let input = Input::Compact {
+            col_ptr,
+            row_idx,
+            values: a,
+        };
+        if let Some(result) = self.factorize_supernodal(input, values) {
+            return result;
+        }
+        let n = col_ptr.len() - 1;
+        let wide: Vec<usize> = row_idx.iter().map(|&i| i as usize).collect();
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
+        self.factorize_simplicial(SparseColMatRef::new(pattern, a), values)
+    }
+
+    /// Our parallel numeric factorisation where the analysis is
+    /// supernodal; `None` for a simplicial one.
+    fn factorize_supernodal(
+        &self,
+        a: Input<'_>,
+        values: &mut Vec<f64>,
+    ) -> Option<Result<(), LinalgError>> {
+        let sym = &*self.inner;
+        let (Some(plan), Some(updates), SymbolicCholeskyRaw::Supernodal(s)) =
+            (&self.plan, &self.updates, sym.raw())
+        else {
+            return None;
+        };
+        // Every block is cleared where it is factorised: reused storage of
+        // this length is taken as it is, new storage zeroed by the
+        // allocator (pages touched first by the threads that fill them).
+        if values.len() != sym.len_val() {
+            *values = vec![0.0; sym.len_val()];
+        }
+        Some(
+            crate::numeric::factorize(s, plan, updates, a, &self.inverse(), values)
+                .map_err(|index| self.zero_pivot(index)),
+        )
+    }
+
+    /// faer's numeric factorisation of a simplicial analysis.
+    fn factorize_simplicial(
+        &self,
+        a: SparseColMatRef<'_, usize, f64>,
+        values: &mut Vec<f64>,
+    ) -> Result<(), LinalgError> {
+        let sym = &*self.inner;
         values.clear();
         values.resize(sym.len_val(), 0.0);
         let par = faer::get_global_parallelism();

@@ -133,6 +133,11 @@ impl LowerPattern {
         &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]]
     }
 
+    /// The rows of all columns, one after another.
+    pub fn row_idx(&self) -> &[u32] {
+        &self.row_idx
+    }
+
     /// Start of each column's entries (`dim + 1` offsets).
     pub fn col_ptr(&self) -> &[usize] {
         &self.col_ptr

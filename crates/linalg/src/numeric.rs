@@ -105,6 +105,62 @@ impl UpdatePlan {
     }
 }
 
+/// The lower triangle (original order) that a factorisation reads: faer's
+/// matrix, or compressed columns with 32-bit rows (the shift-invert
+/// pencil's [`crate::lower::LowerPattern`], read without a widened copy).
+pub(crate) enum Input<'a> {
+    Faer(SparseColMatRef<'a, usize, f64>),
+    Compact {
+        col_ptr: &'a [usize],
+        row_idx: &'a [u32],
+        values: &'a [f64],
+    },
+}
+
+impl Input<'_> {
+    fn ncols(&self) -> usize {
+        match self {
+            Input::Faer(a) => a.ncols(),
+            Input::Compact { col_ptr, .. } => col_ptr.len() - 1,
+        }
+    }
+
+    fn col_ptr(&self) -> &[usize] {
+        match self {
+            Input::Faer(a) => a.symbolic().col_ptr(),
+            Input::Compact { col_ptr, .. } => col_ptr,
+        }
+    }
+
+    /// Calls `f(row, value)` for the entries of column `j` on or below the
+    /// diagonal.
+    #[inline]
+    fn lower_of(&self, j: usize, mut f: impl FnMut(usize, f64)) {
+        match self {
+            Input::Faer(a) => {
+                for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                    if i >= j {
+                        f(i, v);
+                    }
+                }
+            }
+            Input::Compact {
+                col_ptr,
+                row_idx,
+                values,
+            } => {
+                let range = col_ptr[j]..col_ptr[j + 1];
+                for (&i, &v) in row_idx[range.clone()].iter().zip(&values[range]) {
+                    let i = i as usize;
+                    if i >= j {
+                        f(i, v);
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The lower triangle of `P A P^T` by columns (row indices of a column
 /// unsorted): the entries each supernode takes in.
 struct Permuted {
@@ -120,11 +176,11 @@ impl Permuted {
     /// permuted column, and then writes them after those of the chunks
     /// before it, so that every column holds its entries in the order of
     /// `a`'s columns, whatever the number of threads.
-    fn new(a: SparseColMatRef<'_, usize, f64>, inverse: &[usize]) -> Self {
+    fn new(a: &Input<'_>, inverse: &[usize]) -> Self {
         let n = a.ncols();
         let chunks = rayon::current_num_threads().clamp(1, 16);
-        let total = a.compute_nnz();
-        let cp = a.symbolic().col_ptr();
+        let cp = a.col_ptr();
+        let total = cp[n];
         let mut bounds: Vec<usize> = (0..chunks)
             .map(|t| cp.partition_point(|&p| p < total * t / chunks).min(n))
             .collect();
@@ -139,11 +195,7 @@ impl Permuted {
             .map(|t| {
                 let mut count = vec![0usize; n];
                 for j in bounds[t]..bounds[t + 1] {
-                    for &i in a.row_idx_of_col_raw(j) {
-                        if i >= j {
-                            count[target(i, j).1] += 1;
-                        }
-                    }
+                    a.lower_of(j, |i, _| count[target(i, j).1] += 1);
                 }
                 count
             })
@@ -165,20 +217,18 @@ impl Permuted {
         let (rows_out, values_out) = (Shared(row_idx.as_mut_ptr()), Shared(values.as_mut_ptr()));
         next.par_iter_mut().enumerate().for_each(|(t, next)| {
             for j in bounds[t]..bounds[t + 1] {
-                for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-                    if i >= j {
-                        let (r, c) = target(i, j);
-                        // SAFETY: the slots `next[c]` of this chunk lie
-                        // between the counts of the chunks before it and
-                        // after it in column `c`: no other thread writes
-                        // them, and each is written once.
-                        unsafe {
-                            *rows_out.at(next[c]) = r as u32;
-                            *values_out.at(next[c]) = v;
-                        }
-                        next[c] += 1;
+                a.lower_of(j, |i, v| {
+                    let (r, c) = target(i, j);
+                    // SAFETY: the slots `next[c]` of this chunk lie between
+                    // the counts of the chunks before it and after it in
+                    // column `c`: no other thread writes them, and each is
+                    // written once.
+                    unsafe {
+                        *rows_out.at(next[c]) = r as u32;
+                        *values_out.at(next[c]) = v;
                     }
-                }
+                    next[c] += 1;
+                });
             }
         });
         Self {
@@ -215,12 +265,12 @@ pub(crate) fn factorize(
     symbolic: &SymbolicSupernodalCholesky<usize>,
     plan: &SolvePlan,
     updates: &UpdatePlan,
-    a: SparseColMatRef<'_, usize, f64>,
+    a: Input<'_>,
     inverse: &[usize],
     values: &mut [f64],
 ) -> Result<(), usize> {
     assert_eq!(values.len(), symbolic.len_val());
-    let a = Permuted::new(a, inverse);
+    let a = Permuted::new(&a, inverse);
     let work = Work {
         symbolic,
         updates,

@@ -19,7 +19,6 @@ use crate::lower::LowerPattern;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
-use faer::sparse::SparseColMatRef;
 use faer::{Mat, MatMut, MatRef};
 use rayon::prelude::*;
 
@@ -256,10 +255,12 @@ impl ShiftedPencil {
     ) -> Result<ShiftedFactor, LinalgError> {
         let a = self.shifted_values(sigma, fixed);
         let diagonal = self.pattern.diagonal(&a);
-        let result = self.pattern.with_symbolic(|p| {
-            self.symbolic
-                .factorize_into(SparseColMatRef::new(p, &a), &mut values)
-        });
+        let result = self.symbolic.factorize_compact_into(
+            self.pattern.col_ptr(),
+            self.pattern.row_idx(),
+            &a,
+            &mut values,
+        );
         drop(a);
         if let Err(LinalgError::Singular { index, .. }) = result {
             return Err(LinalgError::Singular {
