@@ -231,13 +231,18 @@ impl SolvePlan {
     fn solve_group(&self, factor: SupernodalLdltRef<'_, usize, f64>, x: &mut [Lane], fma: bool) {
         let nt = self.top_rows.len();
         // Forward sweep of the tasks; the updates of top rows go to a
-        // buffer per thread (not per task: most tasks touch few top rows).
-        let buffers: Vec<Vec<Lane>> = self
-            .lane_views(x)
+        // buffer per run of consecutive tasks (not per task: most tasks
+        // touch few top rows). The runs are fixed by the number of tasks
+        // and threads, not by the scheduling, so the buffers add up in the
+        // same order in every solve.
+        let views = self.lane_views(x);
+        let runs = (4 * rayon::current_num_threads()).clamp(1, views.len().max(1));
+        let buffers: Vec<Vec<Lane>> = views
             .into_par_iter()
-            .fold(
-                || vec![Lane::ZERO; nt],
-                |mut top, (task, view)| {
+            .chunks(self.tasks.len().div_ceil(runs).max(1))
+            .map(|run| {
+                let mut top = vec![Lane::ZERO; nt];
+                for (task, view) in run {
                     let mut rows = LaneRows {
                         local: view,
                         first: task.rows.start,
@@ -251,9 +256,9 @@ impl SolvePlan {
                         &mut rows,
                         Sweep::Forward,
                     );
-                    top
-                },
-            )
+                }
+                top
+            })
             .collect();
         for b in &buffers {
             for (p, &r) in self.top_rows.iter().enumerate() {
