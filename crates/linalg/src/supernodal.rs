@@ -955,5 +955,25 @@ pub(crate) mod tests {
         for x in &answers[1..] {
             assert!(max_abs((x - &answers[0]).as_ref()) < 1e-13 * max_abs(answers[0].as_ref()));
         }
+        // And that order is fixed: the same solve gives the same bits every
+        // time, however the threads steal work.
+        let plan = SolvePlan::new(s, 4);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        let solve = || {
+            let mut x = b.clone();
+            let factor = SupernodalLdltRef::new(s, &values);
+            pool.install(|| plan.solve_with(factor, &inverse, x.as_mut(), has_fma()));
+            x
+        };
+        let first = solve();
+        for _ in 0..8 {
+            let x = solve();
+            let same = (0..n)
+                .all(|i| (0..b.ncols()).all(|j| x[(i, j)].to_bits() == first[(i, j)].to_bits()));
+            assert!(same, "a repeated solve changed the last bits");
+        }
     }
 }
