@@ -31,23 +31,38 @@ impl LowerPattern {
     /// that is a copy of the lower parts; otherwise the union is built and
     /// each matrix merged onto it.
     pub fn of_pair(k: &SparseMat, m: &SparseMat) -> (Self, Vec<f64>, Vec<f64>) {
-        if let Some(shared) = Self::of_shared(k, m) {
-            return shared;
+        Self::of_pair_sharing(k, m, Self::share_pattern(k, m))
+    }
+
+    /// Whether `k` and `m` store one pattern (compressed columns, the same
+    /// rows), as assembly gives them.
+    pub(crate) fn share_pattern(k: &SparseMat, m: &SparseMat) -> bool {
+        k.col_nnz().is_none()
+            && m.col_nnz().is_none()
+            && k.col_ptr() == m.col_ptr()
+            && k.row_idx() == m.row_idx()
+    }
+
+    /// [`Self::of_pair`] with [`Self::share_pattern`] already known.
+    pub(crate) fn of_pair_sharing(
+        k: &SparseMat,
+        m: &SparseMat,
+        shared: bool,
+    ) -> (Self, Vec<f64>, Vec<f64>) {
+        if let Some(copy) = shared.then(|| Self::of_shared(k, m)).flatten() {
+            return copy;
         }
         let pattern = Self::union(&[k, m]);
         let (kv, mv) = (pattern.values_of(k), pattern.values_of(m));
         (pattern, kv, mv)
     }
 
-    /// [`Self::of_pair`] for one shared pattern of sorted columns with
-    /// their diagonals; `None` otherwise.
+    /// [`Self::of_pair`] for one shared pattern (`k` and `m` must
+    /// [share](Self::share_pattern) it) of sorted columns with their
+    /// diagonals; `None` otherwise.
     fn of_shared(k: &SparseMat, m: &SparseMat) -> Option<(Self, Vec<f64>, Vec<f64>)> {
         let (cp, ri) = (k.col_ptr(), k.row_idx());
         let n = k.ncols();
-        if k.col_nnz().is_some() || m.col_nnz().is_some() || cp != m.col_ptr() || ri != m.row_idx()
-        {
-            return None;
-        }
         // Where each column's lower part starts: its diagonal.
         let start: Vec<Option<usize>> = (0..n)
             .into_par_iter()
@@ -474,8 +489,9 @@ mod tests {
         assert_eq!(pattern.row_idx, union.row_idx);
         assert_eq!(kv, union.values_of(&k));
         assert_eq!(mv, union.values_of(&m));
+        assert!(LowerPattern::share_pattern(&k, &m));
         assert!(LowerPattern::of_shared(&k, &m).is_some());
-        assert!(LowerPattern::of_shared(&k, &sample(5000, 2)).is_none());
+        assert!(!LowerPattern::share_pattern(&k, &sample(5000, 2)));
     }
 
     /// Dropping the zeros keeps every diagonal entry, and a matrix added

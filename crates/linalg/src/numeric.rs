@@ -239,11 +239,11 @@ impl Permuted {
     }
 }
 
-/// A pointer into an array whose entries the threads write disjointly.
+/// A pointer into an array whose entries the threads access disjointly.
 #[derive(Copy, Clone)]
 struct Shared<T>(*mut T);
 
-// SAFETY: used only for writes to disjoint entries (see the users).
+// SAFETY: used only for accesses to disjoint entries (see the users).
 unsafe impl<T> Send for Shared<T> {}
 unsafe impl<T> Sync for Shared<T> {}
 
@@ -275,7 +275,7 @@ pub(crate) fn factorize(
         symbolic,
         updates,
         a: &a,
-        values: Values(values.as_mut_ptr()),
+        values: Shared(values.as_mut_ptr()),
         par: faer::get_global_parallelism(),
     };
     // The subtrees of the plan in parallel, then the top: each top
@@ -301,20 +301,15 @@ fn parent(symbolic: &SymbolicSupernodalCholesky<usize>, s: usize) -> Option<usiz
     Some(end.partition_point(|&e| e <= row))
 }
 
-/// The factor's values, shared by the threads: each writes only the block
-/// of the supernode it factorises and reads only blocks of its finished
-/// descendants.
-struct Values(*mut f64);
-
-// SAFETY: see the type's docs; the tree order makes the accesses disjoint.
-unsafe impl Sync for Values {}
-
 /// What every supernode's step reads.
 struct Work<'a> {
     symbolic: &'a SymbolicSupernodalCholesky<usize>,
     updates: &'a UpdatePlan,
     a: &'a Permuted,
-    values: Values,
+    /// The factor's values, shared by the threads: each writes only the
+    /// block of the supernode it factorises and reads only blocks of its
+    /// finished descendants (the tree order makes the accesses disjoint).
+    values: Shared<f64>,
     par: Par,
 }
 
@@ -364,7 +359,7 @@ impl Work<'_> {
     #[allow(clippy::mut_from_ref)]
     unsafe fn block(&self, s: usize) -> &mut [f64] {
         let ptr = self.symbolic.col_ptr_for_val();
-        std::slice::from_raw_parts_mut(self.values.0.add(ptr[s]), ptr[s + 1] - ptr[s])
+        std::slice::from_raw_parts_mut(self.values.at(ptr[s]), ptr[s + 1] - ptr[s])
     }
 
     /// Supernode `s`, its descendants factorised.

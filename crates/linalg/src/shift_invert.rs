@@ -89,11 +89,11 @@ impl ShiftedPencil {
         // ordering waits for their union.
         let ordering = ordering.resolve(n);
         let nested = ordering == Ordering::NestedDissection;
-        let same_pattern = k.col_ptr() == m.col_ptr() && k.row_idx() == m.row_idx();
+        let shared = LowerPattern::share_pattern(k, m);
         let (permutation, (pattern, kv, mass_pattern, mv)) = rayon::join(
-            || (nested && same_pattern).then(|| nested_dissection(k.symbolic())),
+            || (nested && shared).then(|| nested_dissection(k.symbolic())),
             || {
-                let (pattern, kv, mv) = LowerPattern::of_pair(k, m);
+                let (pattern, kv, mv) = LowerPattern::of_pair_sharing(k, m, shared);
                 let (mass_pattern, mv) = pattern.without_zeros(&mv);
                 (pattern, kv, mass_pattern, mv)
             },

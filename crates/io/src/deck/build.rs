@@ -205,7 +205,11 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
     let fixed_nodes: IdSet<NodeId> = fixed.iter().map(|(d, _)| d.node).collect();
     let active: IdSet<Dof> = elements
         .iter()
-        .filter(|e| e.creates_dofs() && e.nodes().iter().any(|n| fixed_nodes.contains(n)))
+        .filter(|e| {
+            !fixed_nodes.is_empty()
+                && e.creates_dofs()
+                && e.nodes().iter().any(|n| fixed_nodes.contains(n))
+        })
         .flat_map(Element::dofs)
         .collect();
     let mut kept = Vec::with_capacity(fixed.len());
