@@ -280,9 +280,8 @@ impl LowerPattern {
     pub fn mul(&self, values: &[f64], b: MatRef<'_, f64>) -> Mat<f64> {
         let (n, k) = (self.dim(), b.ncols());
         assert_eq!(b.nrows(), n, "LowerPattern::mul: dimensions");
-        let mut out = Mat::<f64>::zeros(n, k);
         if n == 0 || k == 0 {
-            return out;
+            return Mat::zeros(n, k);
         }
         // Column (and row) ranges of equal entry counts.
         let tasks = rayon::current_num_threads().clamp(1, 64);
@@ -303,28 +302,21 @@ impl LowerPattern {
             })
             .collect();
         let rows_per_chunk = 4096;
-        let mut x = vec![Lane::ZERO; n];
-        let mut y = vec![Lane::ZERO; n];
-        let mut overflow: Vec<Vec<Lane>> = (0..tasks)
-            .map(|t| vec![Lane::ZERO; reach[t] - bounds[t + 1]])
-            .collect();
+        // Every entry of `out` is written below, group by group.
+        let mut out = Mat::<f64>::with_capacity(n, k);
+        // SAFETY: f64 has no invalid values, and each (row, column) of the
+        // n x k matrix is written by the last loop before `out` is read.
+        unsafe { out.set_dims(n, k) };
         for c0 in (0..k).step_by(LANE) {
             let g = LANE.min(k - c0);
-            pack(b, c0, &mut x);
+            let x = packed(b, c0);
             let x = &x;
-            let mut own: Vec<&mut [Lane]> = Vec::with_capacity(tasks);
-            let mut rest = y.as_mut_slice();
-            for t in 0..tasks {
-                let (head, tail) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
-                own.push(head);
-                rest = tail;
-            }
-            own.into_par_iter()
-                .zip(overflow.par_iter_mut())
-                .enumerate()
-                .for_each(|(t, (own, over))| {
-                    own.fill(Lane::ZERO);
-                    over.fill(Lane::ZERO);
+            // Each task's rows and overflow, zeroed by the task itself.
+            let parts: Vec<(Vec<Lane>, Vec<Lane>)> = (0..tasks)
+                .into_par_iter()
+                .map(|t| {
+                    let mut own = vec![Lane::ZERO; bounds[t + 1] - bounds[t]];
+                    let mut over = vec![Lane::ZERO; reach[t] - bounds[t + 1]];
                     let part = Part {
                         pattern: self,
                         values,
@@ -332,19 +324,26 @@ impl LowerPattern {
                         first: bounds[t],
                         end: bounds[t + 1],
                     };
-                    part.run(own, over);
-                });
-            let (y, overflow, bounds) = (&y, &overflow, &bounds);
+                    part.run(&mut own, &mut over);
+                    (own, over)
+                })
+                .collect();
+            let (parts, bounds) = (&parts, &bounds);
             out.as_mut()
                 .par_row_chunks_mut(rows_per_chunk)
                 .enumerate()
                 .for_each(|(chunk, mut block)| {
                     let first = chunk * rows_per_chunk;
+                    // The task that owns the chunk's first row.
+                    let mut t = bounds.partition_point(|&b| b <= first).saturating_sub(1);
                     for r in 0..block.nrows() {
                         let i = first + r;
-                        let mut row = y[i].0;
-                        for (t, over) in overflow.iter().enumerate() {
-                            let start = bounds[t + 1];
+                        while i >= bounds[t + 1] {
+                            t += 1;
+                        }
+                        let mut row = parts[t].0[i - bounds[t]].0;
+                        for (u, (_, over)) in parts.iter().enumerate() {
+                            let start = bounds[u + 1];
                             if i >= start && i - start < over.len() {
                                 for (v, o) in row.iter_mut().zip(&over[i - start].0) {
                                     *v += o;
@@ -437,22 +436,23 @@ impl Lane {
     pub(crate) const ZERO: Lane = Lane([0.0; LANE]);
 }
 
-/// Copies the columns `c0..c0 + LANE` of `b` (zeros past its last
-/// column) row-major into `x`, one [`Lane`] per row, so that a sparse
-/// product reads the group's values of a row together; rows in parallel.
-pub(crate) fn pack(b: MatRef<'_, f64>, c0: usize, x: &mut [Lane]) {
-    const ROWS: usize = 4096;
+/// The columns `c0..c0 + LANE` of `b` (zeros past its last column)
+/// row-major, one [`Lane`] per row, built in parallel.
+pub(crate) fn packed(b: MatRef<'_, f64>, c0: usize) -> Vec<Lane> {
     let g = LANE.min(b.ncols() - c0);
-    x.par_chunks_mut(ROWS)
-        .enumerate()
-        .for_each(|(chunk, rows)| {
-            for (r, row) in rows.iter_mut().enumerate() {
-                let i = chunk * ROWS + r;
-                for (q, v) in row.0.iter_mut().enumerate() {
-                    *v = if q < g { b[(i, c0 + q)] } else { 0.0 };
+    (0..b.nrows())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| {
+            Lane(std::array::from_fn(|q| {
+                if q < g {
+                    b[(i, c0 + q)]
+                } else {
+                    0.0
                 }
-            }
-        });
+            }))
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! Sparse helpers: assembly from triplets, sub-matrices by index lists,
 //! sparse-times-dense products, and conversion to dense for small problems.
 
-use crate::lower::{pack, Lane, LANE};
+use crate::lower::{packed, LANE};
 use crate::{LinalgError, SparseMat};
 pub use faer::sparse::Triplet;
 use faer::{Mat, MatRef};
@@ -77,20 +77,21 @@ pub fn symmetric_mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
     use rayon::prelude::*;
     assert_eq!(a.ncols(), b.nrows(), "symmetric_mul: dimensions");
     let (n, k) = (a.nrows(), b.ncols());
-    let mut out = Mat::<f64>::zeros(n, k);
     if n == 0 || k == 0 {
-        return out;
+        return Mat::zeros(n, k);
     }
+    let mut out = Mat::<f64>::with_capacity(n, k);
+    // SAFETY: f64 has no invalid values, and every entry of the n x k
+    // matrix is written below (each group of columns, every row).
+    unsafe { out.set_dims(n, k) };
     let (col_ptr, row_idx, values) = (a.col_ptr(), a.row_idx(), a.val());
     // Right-hand sides in groups of LANE, each copied row-major so that the
     // LANE values of one row are adjacent: one pass over a column of `a`
     // per group, with the sums in registers.
     let rows_per_task = (n / (8 * rayon::current_num_threads())).clamp(256, 16384);
-    let mut packed = vec![Lane::ZERO; n];
     for c0 in (0..k).step_by(LANE) {
         let g = LANE.min(k - c0);
-        pack(b, c0, &mut packed);
-        let packed = &packed;
+        let packed = &packed(b, c0);
         out.as_mut()
             .par_row_chunks_mut(rows_per_task)
             .enumerate()

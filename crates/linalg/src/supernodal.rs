@@ -189,7 +189,9 @@ impl SolvePlan {
     ) {
         const ROWS: usize = 4096;
         let n = x.nrows();
-        let mut y = vec![Lane::ZERO; n];
+        assert_eq!(inverse.len(), n, "solve: permutation of another size");
+        // Filled below before it is read: no zeroing pass.
+        let mut y: Vec<Lane> = Vec::with_capacity(n);
         for c0 in (0..x.ncols()).step_by(LANE) {
             let g = LANE.min(x.ncols() - c0);
             // In: the rows of `x` in order, each to its place in the
@@ -205,11 +207,14 @@ impl SolvePlan {
                             lane.0[q] = x[(i, c0 + q)];
                         }
                         // SAFETY: `inverse` is a permutation of 0..n, so
-                        // each row of `y` is written by one thread once.
-                        unsafe { *cells.0.add(inverse[i]) = lane };
+                        // each row of `y` (capacity n) is written by one
+                        // thread once.
+                        unsafe { cells.0.add(inverse[i]).write(lane) };
                     }
                 });
             }
+            // SAFETY: the loop above initialised all n rows.
+            unsafe { y.set_len(n) };
             self.solve_group(factor, &mut y, fma);
             let y = &y;
             x.as_mut()
