@@ -569,6 +569,20 @@ impl Operator<'_> {
         self.solves += x.ncols();
         self.block_solves += 1;
         self.solve_seconds += t.elapsed().as_secs_f64();
+        if let Some(h) = self.held {
+            // T_perp: the held response has a rigid-body part; without it
+            // the block need not lose half its norm to the basis
+            // projection, which then takes a second pass and product.
+            let c = h.m_rigid.transpose() * &x;
+            matmul(
+                x.as_mut(),
+                Accum::Add,
+                h.held.rigid,
+                c.as_ref(),
+                -1.0,
+                faer::Par::Seq,
+            );
+        }
         Ok(x)
     }
 
