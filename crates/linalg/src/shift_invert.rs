@@ -103,12 +103,81 @@ impl ShiftedPencil {
             None if nested => Some(pattern.with_symbolic(nested_dissection)?),
             None => None,
         };
+        Self::with_analysis(pattern, kv, mass_pattern, mv, permutation)
+    }
+
+    /// [`Self::analyze`] of the submatrices of `k` and `m` on the equations
+    /// `keep` (ascending; renumbered `0..keep.len()`), the body held at the
+    /// others: the pencil's compact copy comes straight from `k` and `m`,
+    /// without the submatrices in full storage.
+    pub fn analyze_within(
+        k: &SparseMat,
+        m: &SparseMat,
+        keep: &[usize],
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
+        let n = k.nrows();
+        if k.ncols() != n || m.nrows() != n || m.ncols() != n {
+            return Err(LinalgError::Dimension(format!(
+                "pencil with K {}x{} and M {}x{}",
+                k.nrows(),
+                k.ncols(),
+                m.nrows(),
+                m.ncols()
+            )));
+        }
+        if let Some(&bad) = keep.iter().find(|&&i| i >= n) {
+            return Err(LinalgError::Dimension(format!(
+                "equation {bad} kept of a {n}-equation pencil"
+            )));
+        }
+        if keep.len() > u32::MAX as usize {
+            return Err(LinalgError::Dimension(format!(
+                "{} equations: the shift-invert solver takes at most {}",
+                keep.len(),
+                u32::MAX
+            )));
+        }
+        // As in `analyze`: METIS on the full pattern of K while the other
+        // thread copies; its order restricted to the kept equations has no
+        // more fill than on the full matrix (eliminating a subgraph in the
+        // induced order fills a subgraph).
+        let nested = ordering.resolve(keep.len()) == Ordering::NestedDissection;
+        let shared = LowerPattern::share_pattern(k, m);
+        let (permutation, (pattern, kv, mass_pattern, mv)) = rayon::join(
+            || {
+                (nested && shared)
+                    .then(|| nested_dissection(k.symbolic()).map(|p| restricted(&p.0, keep)))
+            },
+            || {
+                let (pattern, kv, mv) = LowerPattern::of_pair_within(k, m, keep);
+                let (mass_pattern, mv) = pattern.without_zeros(&mv);
+                (pattern, kv, mass_pattern, mv)
+            },
+        );
+        let permutation = match permutation {
+            Some(p) => Some(p?),
+            None if nested => Some(pattern.with_symbolic(nested_dissection)?),
+            None => None,
+        };
+        Self::with_analysis(pattern, kv, mass_pattern, mv, permutation)
+    }
+
+    /// The pencil of its parts, with the symbolic analysis of `pattern`
+    /// (nested dissection by `permutation`, or AMD without).
+    fn with_analysis(
+        pattern: LowerPattern,
+        k: Vec<f64>,
+        mass_pattern: LowerPattern,
+        m: Vec<f64>,
+        permutation: Option<(Vec<usize>, Vec<usize>)>,
+    ) -> Result<Self, LinalgError> {
         let symbolic = pattern.with_symbolic(|p| SymbolicLdlt::analyze_permuted(p, permutation))?;
         Ok(Self {
             pattern,
-            k: kv,
+            k,
             mass_pattern,
-            m: mv,
+            m,
             symbolic,
         })
     }
@@ -194,11 +263,32 @@ impl ShiftedPencil {
         ordering: Ordering,
         progress: &dyn Progress,
     ) -> Result<Self, LinalgError> {
+        Self::reporting(k.nrows(), progress, || Self::analyze(k, m, ordering))
+    }
+
+    /// [`Self::analyze_within`], reporting the ordering and analysis to
+    /// `progress`.
+    pub fn analyze_within_reporting(
+        k: &SparseMat,
+        m: &SparseMat,
+        keep: &[usize],
+        ordering: Ordering,
+        progress: &dyn Progress,
+    ) -> Result<Self, LinalgError> {
+        Self::reporting(keep.len(), progress, || {
+            Self::analyze_within(k, m, keep, ordering)
+        })
+    }
+
+    /// Runs an analysis of `equations` equations between its two reports.
+    fn reporting(
+        equations: usize,
+        progress: &dyn Progress,
+        analyze: impl FnOnce() -> Result<Self, LinalgError>,
+    ) -> Result<Self, LinalgError> {
         let t = std::time::Instant::now();
-        progress.report(&Stage::Ordering {
-            equations: k.nrows(),
-        });
-        let pencil = Self::analyze(k, m, ordering)?;
+        progress.report(&Stage::Ordering { equations });
+        let pencil = analyze()?;
         progress.report(&Stage::Analyzed {
             factor_len: pencil.factor_len(),
             seconds: t.elapsed().as_secs_f64(),
@@ -306,6 +396,26 @@ impl ShiftedPencil {
     }
 }
 
+/// The order `forward` (`forward[new] = old`) of all equations restricted
+/// to `keep` (ascending), renumbered `0..keep.len()`, as `(forward,
+/// inverse)`.
+fn restricted(forward: &[usize], keep: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut kept = vec![usize::MAX; forward.len()];
+    for (new, &old) in keep.iter().enumerate() {
+        kept[old] = new;
+    }
+    let forward: Vec<usize> = forward
+        .iter()
+        .map(|&old| kept[old])
+        .filter(|&i| i != usize::MAX)
+        .collect();
+    let mut inverse = vec![0; forward.len()];
+    for (new, &old) in forward.iter().enumerate() {
+        inverse[old] = new;
+    }
+    (forward, inverse)
+}
+
 impl ShiftedFactor {
     /// The shift `sigma` of this factorisation.
     pub fn shift(&self) -> f64 {
@@ -358,6 +468,51 @@ mod tests {
             from_triplets(n, n, &t).unwrap(),
             from_triplets(n, n, &tm).unwrap(),
         )
+    }
+
+    /// A body held at some equations: the pencil taken straight from the
+    /// full matrices (nested dissection of the full pattern, restricted)
+    /// solves and counts as the pencil of the submatrices does.
+    #[test]
+    fn the_pencil_within_kept_equations_solves_as_the_submatrices_do() {
+        let n = 60;
+        let (k, m) = chain(n);
+        let keep: Vec<usize> = (0..n).filter(|&i| i != 0 && i != 30).collect();
+        let (fwd, inv) = restricted(&(0..n).rev().collect::<Vec<_>>(), &keep);
+        assert_eq!(fwd, (0..keep.len()).rev().collect::<Vec<_>>());
+        assert!(inv.iter().enumerate().all(|(old, &new)| fwd[new] == old));
+        let sub = |a: &SparseMat| crate::sparse::submatrix(a, &keep, &keep);
+        let b = Mat::from_fn(keep.len(), 3, |i, j| (i * (j + 2) % 7) as f64 - 3.0);
+        // A consistent mass on K's pattern (the ordering of the full
+        // pattern, restricted) and a lumped one (the kept pattern's own).
+        let consistent = SparseMat::new(
+            k.symbolic().to_owned().unwrap(),
+            k.val()
+                .iter()
+                .map(|v| if *v > 0.0 { 1.0 } else { 0.1 })
+                .collect(),
+        );
+        for (m, ordering) in [
+            (&m, Ordering::Amd),
+            (&m, Ordering::NestedDissection),
+            (&consistent, Ordering::NestedDissection),
+        ] {
+            let within = ShiftedPencil::analyze_within(&k, m, &keep, ordering).unwrap();
+            let whole = ShiftedPencil::analyze(&sub(&k), &sub(m), ordering).unwrap();
+            let (f, g) = (
+                within.factorize(1.05).unwrap(),
+                whole.factorize(1.05).unwrap(),
+            );
+            assert_eq!(f.inertia(), g.inertia(), "{ordering:?}");
+            let (mut x, mut y) = (b.clone(), b.clone());
+            f.solve_in_place(x.as_mut());
+            g.solve_in_place(y.as_mut());
+            assert!(
+                crate::sparse::max_abs((&x - &y).as_ref()) < 1e-10,
+                "{ordering:?}"
+            );
+        }
+        assert!(ShiftedPencil::analyze_within(&k, &m, &[0, n], Ordering::Amd).is_err());
     }
 
     #[test]

@@ -38,11 +38,14 @@ pub fn craig_bampton_modes(
         ));
     }
     mechanism_check(boundary, &interior, dof_map, rigid)?;
-    let k_nn = sparse::submatrix(stiffness, &interior, &interior);
-    let m_nn = sparse::submatrix(mass, &interior, &interior);
     let hook = progress::global();
-    let pencil = ShiftedPencil::analyze_reporting(&k_nn, &m_nn, Ordering::Auto, &*hook)?;
-    drop((k_nn, m_nn)); // the pencil holds its compact copy
+    let pencil = ShiftedPencil::analyze_within_reporting(
+        stiffness,
+        mass,
+        &interior,
+        Ordering::Auto,
+        &*hook,
+    )?;
     let k_factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Mechanism {
             interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
