@@ -68,42 +68,7 @@ impl ShiftedPencil {
     /// union pattern and analyses it with `ordering` (the time goes into the
     /// ordering for large models). `k` and `m` are not borrowed afterwards.
     pub fn analyze(k: &SparseMat, m: &SparseMat, ordering: Ordering) -> Result<Self, LinalgError> {
-        let n = k.nrows();
-        if k.ncols() != n || m.nrows() != n || m.ncols() != n {
-            return Err(LinalgError::Dimension(format!(
-                "pencil with K {}x{} and M {}x{}",
-                k.nrows(),
-                k.ncols(),
-                m.nrows(),
-                m.ncols()
-            )));
-        }
-        if n > u32::MAX as usize {
-            return Err(LinalgError::Dimension(format!(
-                "{n} equations: the shift-invert solver takes at most {}",
-                u32::MAX
-            )));
-        }
-        // METIS (serial) runs on K's own pattern while the other thread
-        // copies the lower triangles; when M has entries off K's pattern the
-        // ordering waits for their union.
-        let ordering = ordering.resolve(n);
-        let nested = ordering == Ordering::NestedDissection;
-        let shared = LowerPattern::share_pattern(k, m);
-        let (permutation, (pattern, kv, mass_pattern, mv)) = rayon::join(
-            || (nested && shared).then(|| nested_dissection(k.symbolic())),
-            || {
-                let (pattern, kv, mv) = LowerPattern::of_pair_sharing(k, m, shared);
-                let (mass_pattern, mv) = pattern.without_zeros(&mv);
-                (pattern, kv, mass_pattern, mv)
-            },
-        );
-        let permutation = match permutation {
-            Some(p) => Some(p?),
-            None if nested => Some(pattern.with_symbolic(nested_dissection)?),
-            None => None,
-        };
-        Self::with_analysis(pattern, kv, mass_pattern, mv, permutation)
+        Self::analyze_on(k, m, None, ordering)
     }
 
     /// [`Self::analyze`] of the submatrices of `k` and `m` on the equations
@@ -116,6 +81,16 @@ impl ShiftedPencil {
         keep: &[usize],
         ordering: Ordering,
     ) -> Result<Self, LinalgError> {
+        Self::analyze_on(k, m, Some(keep), ordering)
+    }
+
+    /// [`Self::analyze`] on all equations or on those `keep`.
+    fn analyze_on(
+        k: &SparseMat,
+        m: &SparseMat,
+        keep: Option<&[usize]>,
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
         let n = k.nrows();
         if k.ncols() != n || m.nrows() != n || m.ncols() != n {
             return Err(LinalgError::Dimension(format!(
@@ -126,31 +101,40 @@ impl ShiftedPencil {
                 m.ncols()
             )));
         }
-        if let Some(&bad) = keep.iter().find(|&&i| i >= n) {
+        if let Some(&bad) = keep.and_then(|keep| keep.iter().find(|&&i| i >= n)) {
             return Err(LinalgError::Dimension(format!(
                 "equation {bad} kept of a {n}-equation pencil"
             )));
         }
-        if keep.len() > u32::MAX as usize {
+        let size = keep.map_or(n, |keep| keep.len());
+        if size > u32::MAX as usize {
             return Err(LinalgError::Dimension(format!(
-                "{} equations: the shift-invert solver takes at most {}",
-                keep.len(),
+                "{size} equations: the shift-invert solver takes at most {}",
                 u32::MAX
             )));
         }
-        // As in `analyze`: METIS on the full pattern of K while the other
-        // thread copies; its order restricted to the kept equations has no
-        // more fill than on the full matrix (eliminating a subgraph in the
-        // induced order fills a subgraph).
-        let nested = ordering.resolve(keep.len()) == Ordering::NestedDissection;
+        // METIS (serial) runs on K's own pattern while the other thread
+        // copies the lower triangles; when M has entries off K's pattern the
+        // ordering waits for their union. On kept equations the order of
+        // all, restricted, has no more fill than on the full matrix
+        // (eliminating a subgraph in the induced order fills a subgraph).
+        let nested = ordering.resolve(size) == Ordering::NestedDissection;
         let shared = LowerPattern::share_pattern(k, m);
         let (permutation, (pattern, kv, mass_pattern, mv)) = rayon::join(
             || {
-                (nested && shared)
-                    .then(|| nested_dissection(k.symbolic()).map(|p| restricted(&p.0, keep)))
+                (nested && shared).then(|| {
+                    let order = nested_dissection(k.symbolic())?;
+                    Ok(match keep {
+                        Some(keep) => restricted(&order.0, keep),
+                        None => order,
+                    })
+                })
             },
             || {
-                let (pattern, kv, mv) = LowerPattern::of_pair_within(k, m, keep);
+                let (pattern, kv, mv) = match keep {
+                    Some(keep) => LowerPattern::of_pair_within(k, m, keep),
+                    None => LowerPattern::of_pair_sharing(k, m, shared),
+                };
                 let (mass_pattern, mv) = pattern.without_zeros(&mv);
                 (pattern, kv, mass_pattern, mv)
             },
@@ -160,24 +144,12 @@ impl ShiftedPencil {
             None if nested => Some(pattern.with_symbolic(nested_dissection)?),
             None => None,
         };
-        Self::with_analysis(pattern, kv, mass_pattern, mv, permutation)
-    }
-
-    /// The pencil of its parts, with the symbolic analysis of `pattern`
-    /// (nested dissection by `permutation`, or AMD without).
-    fn with_analysis(
-        pattern: LowerPattern,
-        k: Vec<f64>,
-        mass_pattern: LowerPattern,
-        m: Vec<f64>,
-        permutation: Option<(Vec<usize>, Vec<usize>)>,
-    ) -> Result<Self, LinalgError> {
         let symbolic = pattern.with_symbolic(|p| SymbolicLdlt::analyze_permuted(p, permutation))?;
         Ok(Self {
             pattern,
-            k,
+            k: kv,
             mass_pattern,
-            m,
+            m: mv,
             symbolic,
         })
     }
