@@ -101,10 +101,18 @@ impl ShiftedPencil {
                 m.ncols()
             )));
         }
-        if let Some(&bad) = keep.and_then(|keep| keep.iter().find(|&&i| i >= n)) {
-            return Err(LinalgError::Dimension(format!(
-                "equation {bad} kept of a {n}-equation pencil"
-            )));
+        if let Some(keep) = keep {
+            if let Some(w) = keep.windows(2).find(|w| w[0] >= w[1]) {
+                return Err(LinalgError::Dimension(format!(
+                    "kept equations must ascend: {} before {}",
+                    w[0], w[1]
+                )));
+            }
+            if let Some(&bad) = keep.last().filter(|&&i| i >= n) {
+                return Err(LinalgError::Dimension(format!(
+                    "equation {bad} kept of a {n}-equation pencil"
+                )));
+            }
         }
         let size = keep.map_or(n, |keep| keep.len());
         if size > u32::MAX as usize {
@@ -485,6 +493,8 @@ mod tests {
             );
         }
         assert!(ShiftedPencil::analyze_within(&k, &m, &[0, n], Ordering::Amd).is_err());
+        assert!(ShiftedPencil::analyze_within(&k, &m, &[3, 3, 5], Ordering::Amd).is_err());
+        assert!(ShiftedPencil::analyze_within(&k, &m, &[5, 3], Ordering::Amd).is_err());
     }
 
     #[test]
