@@ -61,36 +61,8 @@ impl LowerPattern {
     /// [share](Self::share_pattern) it) of sorted columns with their
     /// diagonals; `None` otherwise.
     fn of_shared(k: &SparseMat, m: &SparseMat) -> Option<(Self, Vec<f64>, Vec<f64>)> {
-        let (cp, ri) = (k.col_ptr(), k.row_idx());
-        let n = k.ncols();
-        // Where each column's lower part starts: its diagonal.
-        let start: Vec<Option<usize>> = (0..n)
-            .into_par_iter()
-            .map(|j| {
-                let rows = &ri[cp[j]..cp[j + 1]];
-                let sorted = rows.windows(2).all(|w| w[0] < w[1]);
-                let d = rows.partition_point(|&i| i < j);
-                (sorted && rows.get(d) == Some(&j)).then_some(cp[j] + d)
-            })
-            .collect();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        col_ptr.push(0);
-        for (j, s) in start.iter().enumerate() {
-            col_ptr.push(col_ptr[j] + (cp[j + 1] - (*s)?));
-        }
-        let len = col_ptr[n];
-        let (mut row_idx, mut kv, mut mv) = (
-            Vec::with_capacity(len),
-            Vec::with_capacity(len),
-            Vec::with_capacity(len),
-        );
-        for (j, s) in start.iter().enumerate() {
-            let range = (*s)?..cp[j + 1];
-            row_idx.extend(ri[range.clone()].iter().map(|&i| i as u32));
-            kv.extend_from_slice(&k.val()[range.clone()]);
-            mv.extend_from_slice(&m.val()[range]);
-        }
-        Some((Self { col_ptr, row_idx }, kv, mv))
+        let all: Vec<usize> = (0..k.ncols()).collect();
+        Self::of_shared_within(k, m, &all)
     }
 
     /// [`Self::of_pair`] of the submatrices of `k` and `m` on the equations

@@ -241,7 +241,7 @@ impl Permuted {
 
 /// A pointer into an array whose entries the threads access disjointly.
 #[derive(Copy, Clone)]
-struct Shared<T>(*mut T);
+pub(crate) struct Shared<T>(pub(crate) *mut T);
 
 // SAFETY: used only for accesses to disjoint entries (see the users).
 unsafe impl<T> Send for Shared<T> {}
@@ -252,7 +252,7 @@ impl<T> Shared<T> {
     ///
     /// # Safety
     /// `i` lies in the array, and no other thread accesses that entry.
-    unsafe fn at(&self, i: usize) -> *mut T {
+    pub(crate) unsafe fn at(&self, i: usize) -> *mut T {
         unsafe { self.0.add(i) }
     }
 }

@@ -32,6 +32,7 @@
 //! column-major blocks took 0.2 s.
 
 use crate::lower::{Lane, LANE};
+use crate::numeric::Shared;
 use faer::sparse::linalg::cholesky::supernodal::{SupernodalLdltRef, SymbolicSupernodalCholesky};
 use faer::{MatMut, MatRef};
 use rayon::prelude::*;
@@ -197,7 +198,7 @@ impl SolvePlan {
             // In: the rows of `x` in order, each to its place in the
             // factor's order (one cache line per row).
             {
-                let cells = LaneCells(y.as_mut_ptr());
+                let cells = Shared(y.as_mut_ptr());
                 let x = x.as_ref();
                 (0..n).into_par_iter().step_by(ROWS).for_each(|r0| {
                     let cells = &cells;
@@ -209,7 +210,7 @@ impl SolvePlan {
                         // SAFETY: `inverse` is a permutation of 0..n, so
                         // each row of `y` (capacity n) is written by one
                         // thread once.
-                        unsafe { cells.0.add(inverse[i]).write(lane) };
+                        unsafe { cells.at(inverse[i]).write(lane) };
                     }
                 });
             }
@@ -346,12 +347,6 @@ fn has_fma() -> bool {
         false
     }
 }
-
-/// The rows of a group, written by several threads at distinct rows.
-struct LaneCells(*mut Lane);
-
-// SAFETY: only used for writes to distinct rows (see its one use).
-unsafe impl Sync for LaneCells {}
 
 /// Row-major right-hand sides as one task sees them: its own rows (from
 /// row `first` on) and a buffer for the rows of the top.
