@@ -320,6 +320,7 @@ struct Buffers {
     local: Vec<u32>,
     product: Vec<f64>,
     scaled: Vec<f64>,
+    pivots: Vec<f64>,
     rows: Vec<u32>,
 }
 
@@ -329,6 +330,7 @@ impl Buffers {
             local: vec![u32::MAX; n],
             product: vec![],
             scaled: vec![],
+            pivots: vec![],
             rows: vec![],
         }
     }
@@ -408,26 +410,54 @@ impl Work<'_> {
             let rows = &d_pattern[first..];
             let below = ld.subrows(d_ncols + first, rows.len());
             // (D L_mid^T): d_ncols x mid.
-            buffers.scaled.clear();
-            buffers.scaled.resize(d_ncols * mid, 0.0);
-            let mut scaled = MatMut::from_column_major_slice_mut(&mut buffers.scaled, d_ncols, mid);
-            for c in 0..mid {
-                for k in 0..d_ncols {
-                    scaled[(k, c)] = ld[(k, k)] * below[(c, k)];
+            grow(&mut buffers.scaled, d_ncols * mid);
+            let scaled = &mut buffers.scaled[..d_ncols * mid];
+            MatMut::from_column_major_slice_mut(scaled, d_ncols, mid)
+                .copy_from(below.subrows(0, mid).transpose());
+            buffers.pivots.clear();
+            buffers.pivots.extend((0..d_ncols).map(|k| ld[(k, k)]));
+            for col in scaled.chunks_exact_mut(d_ncols) {
+                for (x, &p) in col.iter_mut().zip(&buffers.pivots) {
+                    *x *= p;
                 }
             }
-            buffers.product.clear();
-            buffers.product.resize(rows.len() * mid, 0.0);
-            let mut product =
-                MatMut::from_column_major_slice_mut(&mut buffers.product, rows.len(), mid);
-            matmul(
-                product.as_mut(),
-                Accum::Replace,
-                below,
-                scaled.as_ref(),
-                1.0,
-                par_for(rows.len() * mid * d_ncols, par),
+            let scaled = MatRef::from_column_major_slice(scaled, d_ncols, mid);
+            // Overwritten by the product: only grown, never cleared.
+            grow(&mut buffers.product, rows.len() * mid);
+            let mut product = MatMut::from_column_major_slice_mut(
+                &mut buffers.product[..rows.len() * mid],
+                rows.len(),
+                mid,
             );
+            let par_here = par_for(rows.len() * mid * d_ncols, par);
+            if mid >= TRIANGLE_FROM {
+                // The rows of `s`'s own columns need only their lower
+                // triangle: the square above it is half the flops of a
+                // descendant that spans `s`.
+                let (upper, lower) = product.as_mut().split_at_row_mut(mid);
+                let (b_upper, b_lower) = below.split_at_row(mid);
+                faer::linalg::matmul::triangular::matmul(
+                    upper,
+                    faer::linalg::matmul::triangular::BlockStructure::TriangularLower,
+                    Accum::Replace,
+                    b_upper,
+                    faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+                    scaled,
+                    faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+                    1.0,
+                    par_here,
+                );
+                matmul(lower, Accum::Replace, b_lower, scaled, 1.0, par_here);
+            } else {
+                matmul(
+                    product.as_mut(),
+                    Accum::Replace,
+                    below,
+                    scaled,
+                    1.0,
+                    par_here,
+                );
+            }
             buffers.rows.clear();
             buffers.rows.extend(rows.iter().map(|&r| {
                 if r < s_end {
@@ -484,6 +514,18 @@ impl Work<'_> {
             }
         }
         Ok(())
+    }
+}
+
+/// Columns of a descendant's update from which its square on the
+/// supernode's own columns is computed as a lower triangle only.
+const TRIANGLE_FROM: usize = 32;
+
+/// Makes `v` at least `len` long (a work buffer whose contents are
+/// overwritten before they are read: no clearing pass).
+fn grow(v: &mut Vec<f64>, len: usize) {
+    if v.len() < len {
+        v.resize(len, 0.0);
     }
 }
 
