@@ -39,6 +39,7 @@ use crate::ordering::Ordering;
 use crate::progress::{Progress, Stage};
 use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::sparse::symmetric_mul;
+use crate::tall;
 use crate::{LinalgError, SparseMat};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, ColRef, Mat, MatMut, MatRef, Side};
@@ -644,9 +645,10 @@ fn dot(a: ColRef<'_, f64>, b: ColRef<'_, f64>) -> f64 {
 /// each other, the blocks may be projected one after the other with the
 /// same `MW`.
 fn project_out(w: MatMut<'_, f64>, mw: MatRef<'_, f64>, x: MatRef<'_, f64>) -> Mat<f64> {
-    let par = faer::get_global_parallelism();
-    let c = x.transpose() * mw;
-    matmul(w, Accum::Add, x, c.as_ref(), -1.0, par);
+    let c = tall::gram(x, mw);
+    if x.ncols() > 0 {
+        tall::add_product(w, x, c.as_ref(), -1.0);
+    }
     c
 }
 
@@ -696,10 +698,9 @@ fn cholesky_qr2(
     rng: &mut Rng,
 ) -> Option<Mat<f64>> {
     let b = w.ncols();
-    let par = faer::get_global_parallelism();
     let mut total = Mat::<f64>::identity(b, b);
     for pass in 0..2 {
-        let mut g = w.transpose() * mw.as_ref();
+        let mut g = tall::gram(w.as_ref(), mw.as_ref());
         crate::sparse::symmetrize(&mut g);
         let factor = g.llt(Side::Lower).ok().map(|f| f.L().to_owned());
         let conditioned = factor.as_ref().is_some_and(|l| {
@@ -718,14 +719,9 @@ fn cholesky_qr2(
                 return Some(r * &total);
             }
         };
-        // W R^-1 = W L^-T: (W R^-1)^T = L^-1 W^T, a lower solve on the
-        // transposed views, in place.
+        // W R^-1 with R = L^T, in place.
         for x in [w.as_mut(), mw.as_mut()] {
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-                l.as_ref(),
-                x.transpose_mut(),
-                par,
-            );
+            tall::div_upper(x, l.transpose());
         }
         total = l.transpose() * &total;
     }
@@ -825,7 +821,13 @@ fn krylov_schur(
         .min(p_max.saturating_sub(b));
     // The basis only: `M V` is not kept (0.2 GB at 3e5 DOFs); each
     // projection pass takes one product `M W` of the new block instead.
-    let mut v = Mat::<f64>::zeros(n, p_max);
+    // Columns are written (by `tall::copy`, both threads touching their
+    // fresh pages) before they are read: a zeroing pass here would touch
+    // all 0.2 GB at 3e5 DOFs on one thread first.
+    let mut v = Mat::<f64>::with_capacity(n, p_max);
+    // SAFETY: f64 has no invalid values; only columns `..c` are read, and
+    // each is written when `c` moves past it.
+    unsafe { v.set_dims(n, p_max) };
     let mut h = Mat::<f64>::zeros(p_max, p_max);
     let lk = locked.x.as_ref();
 
@@ -839,12 +841,14 @@ fn krylov_schur(
         let before: Vec<f64> = (0..b)
             .map(|j| dot(w.col(j), mw.col(j)).max(0.0).sqrt())
             .collect();
-        for _ in 0..2 {
-            project_out(w.as_mut(), mw.as_ref(), lk);
-            mw = op.mass(w.as_ref());
+        if lk.ncols() > 0 {
+            for _ in 0..2 {
+                project_out(w.as_mut(), mw.as_ref(), lk);
+                mw = op.mass(w.as_ref());
+            }
         }
         orthonormalize_block(&mut w, &mut mw, &before, &[lk], pencil, rng);
-        v.subcols_mut(0, b).copy_from(&w);
+        tall::copy(v.subcols_mut(0, b), w.as_ref());
         mw
     };
     let (mut e, mut c) = (0usize, b);
@@ -859,7 +863,6 @@ fn krylov_schur(
         }
         // Expand the pending block [e, c).
         let blk = c - e;
-        let par = faer::get_global_parallelism();
         let m_block = pending.clone();
         let mut w = op.solve(pending)?;
         // First pass, without a product with M: by the Krylov relation the
@@ -873,24 +876,15 @@ fn krylov_schur(
         let mut coef = Mat::<f64>::zeros(c, blk);
         coef.subrows_mut(lo, e - lo)
             .copy_from(h.submatrix(lo, e, e - lo, blk));
-        matmul(
+        tall::add_product(
             w.as_mut(),
-            Accum::Add,
             v.subcols(lo, e - lo),
             coef.subrows(lo, e - lo),
             -1.0,
-            par,
         );
-        let a = m_block.transpose() * &w;
+        let a = tall::gram(m_block.as_ref(), w.as_ref());
         drop(m_block);
-        matmul(
-            w.as_mut(),
-            Accum::Add,
-            v.subcols(e, blk),
-            a.as_ref(),
-            -1.0,
-            par,
-        );
+        tall::add_product(w.as_mut(), v.subcols(e, blk), a.as_ref(), -1.0);
         coef.subrows_mut(e, blk).copy_from(&a);
         let mut mw = op.mass(w.as_ref());
         let mut norms: Vec<f64> = (0..blk)
@@ -938,7 +932,7 @@ fn krylov_schur(
         e = c;
         let full = c + blk > p_max || e >= free;
         if !full {
-            v.subcols_mut(c, blk).copy_from(&w);
+            tall::copy(v.subcols_mut(c, blk), w.as_ref());
             for j in 0..blk {
                 for i in 0..blk {
                     h[(c + i, e_prev + j)] = bmat[(i, j)];
@@ -997,7 +991,7 @@ fn krylov_schur(
             stats.restarts += 1;
             let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[j])]);
             rotate_in_place(&mut v, e, y.as_ref());
-            v.subcols_mut(kk, blk).copy_from(&w);
+            tall::copy(v.subcols_mut(kk, blk), w.as_ref());
             h.fill(0.0);
             let coupling = bmat.as_ref() * y.subrows(e_prev, blk);
             for j in 0..kk {
