@@ -433,9 +433,9 @@ impl Work<'_> {
             );
             let par_here = par_for(rows.len() * mid * d_ncols, par);
             if mid >= TRIANGLE_FROM {
-                // The rows of `s`'s own columns need only their lower
-                // triangle: the square above it is half the flops of a
-                // descendant that spans `s`.
+                // The first `mid` rows (those of `s`'s own columns) are
+                // needed on and below the diagonal only: their square as a
+                // lower triangle, half its flops.
                 let (upper, lower) = product.as_mut().split_at_row_mut(mid);
                 let (b_upper, b_lower) = below.split_at_row(mid);
                 faer::linalg::matmul::triangular::matmul(
