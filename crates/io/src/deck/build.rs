@@ -10,6 +10,7 @@ use crate::InputError;
 use flexbody_fem::element::{AxialSpring, Beam, PointMass, Solid, Spring};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
 use flexbody_fem::{BeamProperties, BeamTheory, Dof, Element, FemError, Material, Model, NodeId};
+use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// The checked model, the element sets and the warnings.
@@ -306,16 +307,22 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
             }
         })?
     };
-    for e in model.elements() {
-        e.validate(&model)
-            .map_err(|err| match element_loc.get(&e.id()) {
-                Some(loc) => files.error(*loc, err.to_string()),
-                None => InputError::Invalid {
-                    path: files.paths[0].clone(),
-                    line: None,
-                    message: err.to_string(),
-                },
-            })?;
+    // Every element's geometry in parallel; the first bad one (in the
+    // model's order) is the error.
+    let bad = model
+        .elements()
+        .par_iter()
+        .filter_map(|e| e.validate(&model).err().map(|err| (e.id(), err)))
+        .find_first(|_| true);
+    if let Some((id, err)) = bad {
+        return Err(match element_loc.get(&id) {
+            Some(loc) => files.error(*loc, err.to_string()),
+            None => InputError::Invalid {
+                path: files.paths[0].clone(),
+                line: None,
+                message: err.to_string(),
+            },
+        });
     }
     Ok(Built {
         model,

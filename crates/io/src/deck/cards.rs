@@ -4,6 +4,7 @@
 //! folder), and every line keeps its file and line number for errors.
 
 use crate::InputError;
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Deepest `*INCLUDE` nesting accepted (a deeper one is taken as a cycle).
@@ -263,6 +264,9 @@ fn collect_lines(
 /// the next line if that line starts with a `KEY=value` parameter.
 fn split_cards(files: &Files, lines: &[(Loc, String)]) -> Result<Vec<Card>, InputError> {
     let mut cards: Vec<Card> = Vec::new();
+    // The data lines of each card, split at the commas afterwards, all
+    // cards in parallel (the node and element lines are most of a deck).
+    let mut data: Vec<std::ops::Range<usize>> = Vec::new();
     let mut i = 0;
     while i < lines.len() {
         let (loc, text) = &lines[i];
@@ -290,17 +294,24 @@ fn split_cards(files: &Files, lines: &[(Loc, String)]) -> Result<Vec<Card>, Inpu
                 loc: *loc,
                 data: Vec::new(),
             });
+            data.push(i + 1..i + 1);
         } else {
-            let Some(card) = cards.last_mut() else {
+            let Some(range) = data.last_mut() else {
                 return Err(files.error(
                     *loc,
                     "data line before the first keyword (keyword lines start with '*')",
                 ));
             };
-            card.data.push(parse_data(*loc, text));
+            range.end = i + 1;
         }
         i += 1;
     }
+    cards.par_iter_mut().zip(data).for_each(|(card, range)| {
+        card.data = lines[range]
+            .par_iter()
+            .map(|(loc, text)| parse_data(*loc, text))
+            .collect();
+    });
     Ok(cards)
 }
 
