@@ -41,8 +41,7 @@ use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::sparse::symmetric_mul;
 use crate::tall;
 use crate::{LinalgError, SparseMat};
-use faer::linalg::matmul::matmul;
-use faer::{Accum, ColRef, Mat, MatMut, MatRef, Side};
+use faer::{ColRef, Mat, MatMut, MatRef, Side};
 use std::time::Instant;
 
 /// Which eigenpairs to compute.
@@ -549,15 +548,8 @@ impl Operator<'_> {
     fn solve(&mut self, mut x: Mat<f64>) -> Result<Mat<f64>, LinalgError> {
         if let Some(h) = self.held {
             // P Y: the loads in equilibrium, none on the support.
-            let c = h.held.rigid.transpose() * &x;
-            matmul(
-                x.as_mut(),
-                Accum::Add,
-                h.m_rigid.as_ref(),
-                c.as_ref(),
-                -1.0,
-                faer::Par::Seq,
-            );
+            let c = tall::gram(h.held.rigid, x.as_ref());
+            tall::add_product(x.as_mut(), h.m_rigid.as_ref(), c.as_ref(), -1.0);
             for &i in h.held.support {
                 for j in 0..x.ncols() {
                     x[(i, j)] = 0.0;
@@ -574,15 +566,8 @@ impl Operator<'_> {
             // T_perp: the held response has a rigid-body part; without it
             // the block need not lose half its norm to the basis
             // projection, which then takes a second pass and product.
-            let c = h.m_rigid.transpose() * &x;
-            matmul(
-                x.as_mut(),
-                Accum::Add,
-                h.held.rigid,
-                c.as_ref(),
-                -1.0,
-                faer::Par::Seq,
-            );
+            let c = tall::gram(h.m_rigid.as_ref(), x.as_ref());
+            tall::add_product(x.as_mut(), h.held.rigid, c.as_ref(), -1.0);
         }
         Ok(x)
     }
