@@ -11,13 +11,13 @@ use crate::numeric::{Input, UpdatePlan};
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::Stage;
 use crate::supernodal::SolvePlan;
+use crate::supernodes::{FactorRef, Supernodes};
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, LdltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, MatRef, Side};
@@ -46,10 +46,41 @@ impl Default for LdltParams {
 /// matrix with that pattern.
 #[derive(Clone, Debug)]
 pub struct SymbolicLdlt {
-    inner: Arc<SymbolicCholesky<usize>>,
-    plan: Option<Arc<SolvePlan>>,
-    updates: Option<Arc<UpdatePlan>>,
+    inner: Arc<Analysis>,
     ordering: Ordering,
+}
+
+/// The structure a numeric factorisation fills.
+#[derive(Debug)]
+enum Analysis {
+    /// Ours: supernodes factorised and solved in parallel over the tree.
+    Supernodal(Supernodal),
+    /// faer's, for small or very sparse matrices.
+    Simplicial(SymbolicCholesky<usize>),
+}
+
+#[derive(Debug)]
+struct Supernodal {
+    supernodes: Supernodes,
+    /// `forward[new] = old`, `inverse[old] = new`.
+    forward: Vec<usize>,
+    inverse: Vec<usize>,
+    plan: SolvePlan,
+    updates: UpdatePlan,
+}
+
+impl Supernodal {
+    fn new(supernodes: Supernodes, forward: Vec<usize>, inverse: Vec<usize>) -> Self {
+        let plan = SolvePlan::new(&supernodes, rayon::current_num_threads());
+        let updates = UpdatePlan::new(&supernodes, &plan);
+        Self {
+            supernodes,
+            forward,
+            inverse,
+            plan,
+            updates,
+        }
+    }
 }
 
 impl SymbolicLdlt {
@@ -76,60 +107,66 @@ impl SymbolicLdlt {
     /// [`Self::analyze_pattern`] with the nested-dissection permutation
     /// `(forward, inverse)` of `pattern` already computed (from a pattern
     /// with the same lower triangle), or `None` for faer's AMD.
+    ///
+    /// Under nested dissection the supernodes come from the graph of the
+    /// nodes ([`Supernodes::of_groups`]); faer analyses the equations
+    /// under AMD, and where the factor is simplicial.
     pub fn analyze_permuted(
         pattern: SymbolicSparseColMatRef<'_, usize>,
         permutation: Option<(Vec<usize>, Vec<usize>)>,
     ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
-        let fail = |e: faer::sparse::FaerError| LinalgError::Faer(format!("{e:?}"));
-        let inner = match &permutation {
-            Some((fwd, inv)) => {
-                let perm = PermRef::new_checked(fwd, inv, n);
-                factorize_symbolic_cholesky(
-                    pattern,
-                    Side::Lower,
-                    SymmetricOrdering::Custom(perm),
-                    Default::default(),
-                )
-                .map_err(fail)?
-            }
-            None => factorize_symbolic_cholesky(
-                pattern,
-                Side::Lower,
-                SymmetricOrdering::Amd,
-                Default::default(),
-            )
-            .map_err(fail)?,
-        };
         let ordering = if permutation.is_some() {
             Ordering::NestedDissection
         } else {
             Ordering::Amd
         };
-        let (plan, updates) = match inner.raw() {
-            SymbolicCholeskyRaw::Supernodal(s) => {
-                let plan = SolvePlan::new(s, rayon::current_num_threads());
-                let updates = UpdatePlan::new(s, &plan);
-                (Some(Arc::new(plan)), Some(Arc::new(updates)))
+        if let Some((fwd, inv)) = &permutation {
+            if fwd.len() != n || inv.len() != n {
+                return Err(LinalgError::Dimension(format!(
+                    "a permutation of {} equations for a {n}-equation pattern",
+                    fwd.len()
+                )));
             }
-            SymbolicCholeskyRaw::Simplicial(_) => (None, None),
+            if let Some(supernodes) = Supernodes::of_groups(pattern, fwd, inv) {
+                let (fwd, inv) = permutation.unwrap_or_default();
+                return Ok(Self {
+                    inner: Arc::new(Analysis::Supernodal(Supernodal::new(supernodes, fwd, inv))),
+                    ordering,
+                });
+            }
+        }
+        let inner = faer_analysis(pattern, permutation.as_ref())?;
+        let inner = match inner.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let (fwd, inv) = match inner.perm() {
+                    Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
+                    None => ((0..n).collect(), (0..n).collect()),
+                };
+                Analysis::Supernodal(Supernodal::new(Supernodes::from_faer(s), fwd, inv))
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => Analysis::Simplicial(inner),
         };
         Ok(Self {
             inner: Arc::new(inner),
-            plan,
-            updates,
             ordering,
         })
     }
 
     /// Number of rows of the analysed matrix.
     pub fn dim(&self) -> usize {
-        self.inner.nrows()
+        match &*self.inner {
+            Analysis::Supernodal(s) => s.supernodes.nrows(),
+            Analysis::Simplicial(s) => s.nrows(),
+        }
     }
 
     /// Number of stored entries of the factor `L`.
     pub fn factor_len(&self) -> usize {
-        self.inner.len_val()
+        match &*self.inner {
+            Analysis::Supernodal(s) => s.supernodes.len_val(),
+            Analysis::Simplicial(s) => s.len_val(),
+        }
     }
 
     /// The ordering used (with [`Ordering::Auto`] resolved).
@@ -137,17 +174,53 @@ impl SymbolicLdlt {
         self.ordering
     }
 
-    /// faer's symbolic factor.
+    /// The analysis with the supernodes given.
     #[cfg(test)]
-    pub(crate) fn inner(&self) -> &SymbolicCholesky<usize> {
-        &self.inner
+    pub(crate) fn with_supernodes(
+        supernodes: Supernodes,
+        forward: Vec<usize>,
+        inverse: Vec<usize>,
+    ) -> Self {
+        Self {
+            inner: Arc::new(Analysis::Supernodal(Supernodal::new(
+                supernodes, forward, inverse,
+            ))),
+            ordering: Ordering::NestedDissection,
+        }
+    }
+
+    /// faer's own analysis of `pattern` under this analysis' permutation:
+    /// the reference that tests compare with.
+    #[cfg(test)]
+    pub(crate) fn faer_reference(
+        &self,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+    ) -> SymbolicCholesky<usize> {
+        let forward = self.forward();
+        let mut inverse = vec![0; forward.len()];
+        for (new, &old) in forward.iter().enumerate() {
+            inverse[old] = new;
+        }
+        faer_analysis(pattern, Some(&(forward, inverse))).unwrap()
+    }
+
+    /// The supernodes, where the factor is supernodal.
+    #[cfg(test)]
+    pub(crate) fn supernodes(&self) -> Option<&Supernodes> {
+        match &*self.inner {
+            Analysis::Supernodal(s) => Some(&s.supernodes),
+            Analysis::Simplicial(_) => None,
+        }
     }
 
     /// `forward[new] = old` of the fill-reducing permutation.
     pub(crate) fn forward(&self) -> Vec<usize> {
-        match self.inner.perm() {
-            Some(p) => p.arrays().0.to_vec(),
-            None => (0..self.dim()).collect(),
+        match &*self.inner {
+            Analysis::Supernodal(s) => s.forward.clone(),
+            Analysis::Simplicial(s) => match s.perm() {
+                Some(p) => p.arrays().0.to_vec(),
+                None => (0..self.dim()).collect(),
+            },
         }
     }
 
@@ -159,10 +232,10 @@ impl SymbolicLdlt {
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        if let Some(result) = self.factorize_supernodal(Input::Faer(a), values) {
-            return result;
+        match &*self.inner {
+            Analysis::Supernodal(s) => self.factorize_supernodal(s, Input::Faer(a), values),
+            Analysis::Simplicial(sym) => self.factorize_simplicial(sym, a, values),
         }
-        self.factorize_simplicial(a, values)
     }
 
     /// [`Self::factorize_into`] for the lower triangle in compressed
@@ -176,52 +249,49 @@ impl SymbolicLdlt {
         a: &[f64],
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        let input = Input::Compact {
-            col_ptr,
-            row_idx,
-            values: a,
-        };
-        if let Some(result) = self.factorize_supernodal(input, values) {
-            return result;
+        match &*self.inner {
+            Analysis::Supernodal(s) => {
+                let input = Input::Compact {
+                    col_ptr,
+                    row_idx,
+                    values: a,
+                };
+                self.factorize_supernodal(s, input, values)
+            }
+            Analysis::Simplicial(sym) => {
+                let n = col_ptr.len() - 1;
+                let wide: Vec<usize> = row_idx.iter().map(|&i| i as usize).collect();
+                let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
+                self.factorize_simplicial(sym, SparseColMatRef::new(pattern, a), values)
+            }
         }
-        let n = col_ptr.len() - 1;
-        let wide: Vec<usize> = row_idx.iter().map(|&i| i as usize).collect();
-        let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
-        self.factorize_simplicial(SparseColMatRef::new(pattern, a), values)
     }
 
-    /// Our parallel numeric factorisation where the analysis is
-    /// supernodal; `None` for a simplicial one.
+    /// Our parallel numeric factorisation of a supernodal analysis.
     fn factorize_supernodal(
         &self,
+        s: &Supernodal,
         a: Input<'_>,
         values: &mut Vec<f64>,
-    ) -> Option<Result<(), LinalgError>> {
-        let sym = &*self.inner;
-        let (Some(plan), Some(updates), SymbolicCholeskyRaw::Supernodal(s)) =
-            (&self.plan, &self.updates, sym.raw())
-        else {
-            return None;
-        };
+    ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: reused storage of
         // this length is taken as it is, new storage zeroed by the
         // allocator (pages touched first by the threads that fill them).
-        if values.len() != sym.len_val() {
-            *values = vec![0.0; sym.len_val()];
+        let len = s.supernodes.len_val();
+        if values.len() != len {
+            *values = vec![0.0; len];
         }
-        Some(
-            crate::numeric::factorize(s, plan, updates, a, &self.inverse(), values)
-                .map_err(|index| self.zero_pivot(index)),
-        )
+        crate::numeric::factorize(&s.supernodes, &s.plan, &s.updates, a, &s.inverse, values)
+            .map_err(|index| self.zero_pivot(index))
     }
 
     /// faer's numeric factorisation of a simplicial analysis.
     fn factorize_simplicial(
         &self,
+        sym: &SymbolicCholesky<usize>,
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        let sym = &*self.inner;
         values.clear();
         values.resize(sym.len_val(), 0.0);
         let par = faer::get_global_parallelism();
@@ -253,37 +323,73 @@ impl SymbolicLdlt {
         }
     }
 
-    /// `inverse[old] = new` of the fill-reducing permutation.
-    fn inverse(&self) -> std::borrow::Cow<'_, [usize]> {
-        match self.inner.perm() {
-            Some(p) => std::borrow::Cow::Borrowed(p.arrays().1),
-            None => std::borrow::Cow::Owned((0..self.dim()).collect()),
-        }
-    }
-
     /// Solves `L D L^T X = B` in place with the factor `values`: in parallel
     /// over the elimination tree for a supernodal factor
     /// ([`crate::supernodal`]), with faer's solve otherwise.
     pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
-        let sym = &*self.inner;
-        if let (Some(plan), SymbolicCholeskyRaw::Supernodal(s)) = (&self.plan, sym.raw()) {
-            plan.solve_in_place(SupernodalLdltRef::new(s, values), &self.inverse(), x);
-            return;
+        match &*self.inner {
+            Analysis::Supernodal(s) => {
+                s.plan
+                    .solve_in_place(FactorRef::new(&s.supernodes, values), &s.inverse, x);
+            }
+            Analysis::Simplicial(sym) => {
+                let par = faer::get_global_parallelism();
+                let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
+                LdltRef::new(sym, values).solve_in_place_with_conj(
+                    Conj::No,
+                    x,
+                    par,
+                    MemStack::new(&mut mem),
+                );
+            }
         }
-        let par = faer::get_global_parallelism();
-        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
-        LdltRef::new(sym, values).solve_in_place_with_conj(
-            Conj::No,
-            x,
-            par,
-            MemStack::new(&mut mem),
-        );
     }
 
     /// The pivots `D` in elimination order.
     pub(crate) fn permuted_pivots(&self, values: &[f64]) -> Vec<f64> {
-        permuted_pivots(&self.inner, values)
+        let mut d = vec![0.0; self.dim()];
+        match &*self.inner {
+            Analysis::Simplicial(sym) => {
+                let SymbolicCholeskyRaw::Simplicial(s) = sym.raw() else {
+                    unreachable!("a simplicial analysis holds faer's simplicial factor")
+                };
+                let factor = s.factor();
+                let col_ptr = factor.col_ptr();
+                let row_idx = factor.row_idx();
+                for (j, dj) in d.iter_mut().enumerate() {
+                    if let Some(p) = (col_ptr[j]..col_ptr[j + 1]).find(|&p| row_idx[p] == j) {
+                        *dj = values[p];
+                    }
+                }
+            }
+            Analysis::Supernodal(s) => {
+                let factor = FactorRef::new(&s.supernodes, values);
+                for sn in 0..s.supernodes.n_supernodes() {
+                    let node = factor.supernode(sn);
+                    let block = node.val();
+                    for k in 0..block.ncols() {
+                        d[node.start() + k] = block[(k, k)];
+                    }
+                }
+            }
+        }
+        d
     }
+}
+
+/// faer's symbolic analysis of `pattern` (lower triangle) under the
+/// permutation `(forward, inverse)`, or under faer's AMD.
+pub(crate) fn faer_analysis(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    permutation: Option<&(Vec<usize>, Vec<usize>)>,
+) -> Result<SymbolicCholesky<usize>, LinalgError> {
+    let n = pattern.nrows();
+    let ordering = match permutation {
+        Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
+        None => SymmetricOrdering::Amd,
+    };
+    factorize_symbolic_cholesky(pattern, Side::Lower, ordering, Default::default())
+        .map_err(|e| LinalgError::Faer(format!("{e:?}")))
 }
 
 /// Counts of negative, zero and positive pivots: by Sylvester's law of inertia
@@ -441,35 +547,6 @@ impl Ldlt {
         );
         self.symbolic.solve_in_place(&self.values, x.as_mut());
     }
-}
-
-/// The pivots in elimination (permuted) order.
-fn permuted_pivots(sym: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
-    let n = sym.nrows();
-    let mut d = vec![0.0; n];
-    match sym.raw() {
-        SymbolicCholeskyRaw::Simplicial(s) => {
-            let factor = s.factor();
-            let col_ptr = factor.col_ptr();
-            let row_idx = factor.row_idx();
-            for (j, dj) in d.iter_mut().enumerate() {
-                if let Some(p) = (col_ptr[j]..col_ptr[j + 1]).find(|&p| row_idx[p] == j) {
-                    *dj = values[p];
-                }
-            }
-        }
-        SymbolicCholeskyRaw::Supernodal(s) => {
-            let factor = SupernodalLdltRef::new(s, values);
-            for sn in 0..s.n_supernodes() {
-                let node = factor.supernode(sn);
-                let block = node.val();
-                for k in 0..block.ncols() {
-                    d[node.start() + k] = block[(k, k)];
-                }
-            }
-        }
-    }
-    d
 }
 
 #[cfg(test)]

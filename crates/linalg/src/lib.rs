@@ -24,6 +24,7 @@ pub mod progress;
 pub mod shift_invert;
 pub mod sparse;
 pub mod supernodal;
+pub mod supernodes;
 pub mod tall;
 
 pub use faer::sparse::SparseColMat;

@@ -20,10 +20,10 @@
 //! in `L`, 2 threads) a factorisation takes 0.9-1.0 s, faer's 1.8 s.
 
 use crate::supernodal::SolvePlan;
+use crate::supernodes::Supernodes;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::{cholesky_in_place, LdltError, LdltRegularization};
 use faer::linalg::matmul::matmul;
-use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
@@ -43,7 +43,7 @@ pub(crate) struct UpdatePlan {
 }
 
 impl UpdatePlan {
-    pub(crate) fn new(symbolic: &SymbolicSupernodalCholesky<usize>, plan: &SolvePlan) -> Self {
+    pub(crate) fn new(symbolic: &Supernodes, plan: &SolvePlan) -> Self {
         let ns = symbolic.n_supernodes();
         let begin = symbolic.supernode_begin();
         let end = symbolic.supernode_end();
@@ -264,7 +264,7 @@ impl<T> Shared<T> {
 /// of `symbolic`. `Err(i)`: a pivot vanished, `i` as faer's
 /// factorisation reports it (elimination order).
 pub(crate) fn factorize(
-    symbolic: &SymbolicSupernodalCholesky<usize>,
+    symbolic: &Supernodes,
     plan: &SolvePlan,
     updates: &UpdatePlan,
     a: Input<'_>,
@@ -297,7 +297,7 @@ pub(crate) fn factorize(
 }
 
 /// The supernode of the first row below `s`'s diagonal block.
-fn parent(symbolic: &SymbolicSupernodalCholesky<usize>, s: usize) -> Option<usize> {
+fn parent(symbolic: &Supernodes, s: usize) -> Option<usize> {
     let row = *symbolic.supernode(s).pattern().first()?;
     let end = symbolic.supernode_end();
     Some(end.partition_point(|&e| e <= row))
@@ -305,7 +305,7 @@ fn parent(symbolic: &SymbolicSupernodalCholesky<usize>, s: usize) -> Option<usiz
 
 /// What every supernode's step reads.
 struct Work<'a> {
-    symbolic: &'a SymbolicSupernodalCholesky<usize>,
+    symbolic: &'a Supernodes,
     updates: &'a UpdatePlan,
     a: &'a Permuted,
     /// The factor's values, shared by the threads: each writes only the
@@ -552,9 +552,10 @@ mod tests {
     use faer::Mat;
     use faer::Side;
 
-    /// faer's own numeric factorisation of `a` on the same analysis.
+    /// faer's own numeric factorisation of `a` on faer's analysis under
+    /// the same permutation (the same supernodes: `crate::supernodes`).
     fn faer_values(symbolic: &SymbolicLdlt, a: &SparseMat) -> Vec<f64> {
-        let sym = symbolic.inner();
+        let sym = &symbolic.faer_reference(a.symbolic());
         let mut values = vec![0.0; sym.len_val()];
         let par = faer::Par::Seq;
         let mut mem =

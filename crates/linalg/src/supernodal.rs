@@ -33,7 +33,7 @@
 
 use crate::lower::{Lane, LANE};
 use crate::numeric::Shared;
-use faer::sparse::linalg::cholesky::supernodal::{SupernodalLdltRef, SymbolicSupernodalCholesky};
+use crate::supernodes::{FactorRef, Supernodes};
 use faer::{MatMut, MatRef};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -66,7 +66,7 @@ impl SolvePlan {
     /// four tasks per thread and none holds more than a sixteenth of the
     /// factor per thread. One thread, or a tree that is not postordered,
     /// gives a plan with every supernode in the top (a sequential solve).
-    pub fn new(symbolic: &SymbolicSupernodalCholesky<usize>, threads: usize) -> Self {
+    pub fn new(symbolic: &Supernodes, threads: usize) -> Self {
         let ns = symbolic.n_supernodes();
         let n = symbolic.nrows();
         let begin = symbolic.supernode_begin();
@@ -170,9 +170,9 @@ impl SolvePlan {
     /// per row): every entry of `L` read from memory updates the whole group
     /// with two vector operations, and gathering or scattering a pattern row
     /// moves one cache line.
-    pub fn solve_in_place(
+    pub(crate) fn solve_in_place(
         &self,
-        factor: SupernodalLdltRef<'_, usize, f64>,
+        factor: FactorRef<'_>,
         inverse: &[usize],
         x: MatMut<'_, f64>,
     ) {
@@ -183,7 +183,7 @@ impl SolvePlan {
     /// baseline ones.
     fn solve_with(
         &self,
-        factor: SupernodalLdltRef<'_, usize, f64>,
+        factor: FactorRef<'_>,
         inverse: &[usize],
         mut x: MatMut<'_, f64>,
         fma: bool,
@@ -234,7 +234,7 @@ impl SolvePlan {
     }
 
     /// One group of right-hand sides in the factor's order.
-    fn solve_group(&self, factor: SupernodalLdltRef<'_, usize, f64>, x: &mut [Lane], fma: bool) {
+    fn solve_group(&self, factor: FactorRef<'_>, x: &mut [Lane], fma: bool) {
         let nt = self.top_rows.len();
         // Forward sweep of the tasks; the updates of top rows go to a
         // buffer per run of consecutive tasks (not per task: most tasks
@@ -374,7 +374,7 @@ enum Sweep {
 /// reverse order), compiled with fused multiply-adds where the CPU has them.
 fn sweep(
     fma: bool,
-    factor: SupernodalLdltRef<'_, usize, f64>,
+    factor: FactorRef<'_>,
     range: Range<usize>,
     rows: &mut LaneRows<'_, '_>,
     dir: Sweep,
@@ -392,7 +392,7 @@ fn sweep(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn sweep_avx2(
-    factor: SupernodalLdltRef<'_, usize, f64>,
+    factor: FactorRef<'_>,
     range: Range<usize>,
     rows: &mut LaneRows<'_, '_>,
     dir: Sweep,
@@ -402,7 +402,7 @@ unsafe fn sweep_avx2(
 
 #[inline(always)]
 fn sweep_with<const FMA: bool>(
-    factor: SupernodalLdltRef<'_, usize, f64>,
+    factor: FactorRef<'_>,
     range: Range<usize>,
     rows: &mut LaneRows<'_, '_>,
     dir: Sweep,
@@ -422,14 +422,14 @@ fn sweep_with<const FMA: bool>(
 }
 
 /// Whether supernode `s` of the top is worth splitting between threads.
-fn large(factor: SupernodalLdltRef<'_, usize, f64>, s: usize) -> bool {
+fn large(factor: FactorRef<'_>, s: usize) -> bool {
     let block = factor.supernode(s).val();
     block.nrows() * block.ncols() >= 1 << 16
 }
 
 /// The forward step of a large supernode of the top (`x` all rows): its
 /// pattern rows split between threads.
-fn top_forward(fma: bool, factor: SupernodalLdltRef<'_, usize, f64>, s: usize, x: &mut [Lane]) {
+fn top_forward(fma: bool, factor: FactorRef<'_>, s: usize, x: &mut [Lane]) {
     let node = factor.supernode(s);
     let block = node.val();
     let size = block.ncols();
@@ -485,7 +485,7 @@ fn par_scatter(
 
 /// The backward step of a large supernode of the top: its columns split
 /// between threads, each gathering from all pattern rows.
-fn top_backward(fma: bool, factor: SupernodalLdltRef<'_, usize, f64>, s: usize, x: &mut [Lane]) {
+fn top_backward(fma: bool, factor: FactorRef<'_>, s: usize, x: &mut [Lane]) {
     const COLUMNS: usize = 64;
     let node = factor.supernode(s);
     let block = node.val();
@@ -624,7 +624,7 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
 /// (ascending), those of the top after them.
 #[inline(always)]
 fn lane_step<const FMA: bool>(
-    factor: SupernodalLdltRef<'_, usize, f64>,
+    factor: FactorRef<'_>,
     s: usize,
     rows: &mut LaneRows<'_, '_>,
     dir: Sweep,
@@ -857,7 +857,6 @@ pub(crate) mod tests {
     use crate::ldlt::SymbolicLdlt;
     use crate::ordering::Ordering;
     use crate::sparse::{from_triplets, max_abs, symmetric_mul, Triplet};
-    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
     use faer::Mat;
 
     /// A 3D grid of `n^3` nodes with 3 DOFs each, every node coupled to its
@@ -905,9 +904,10 @@ pub(crate) mod tests {
             SymbolicLdlt::analyze_pattern(a.symbolic(), Ordering::NestedDissection).unwrap();
         let mut values = Vec::new();
         symbolic.factorize_into(a.as_ref(), &mut values).unwrap();
-        let SymbolicCholeskyRaw::Supernodal(s) = symbolic.inner().raw() else {
+        let Some(s) = symbolic.supernodes() else {
             panic!("a 3D mesh of 5184 DOFs gets a supernodal factor");
         };
+        let faer_symbolic = symbolic.faer_reference(a.symbolic());
         // 11 columns: a full group of 8 and one of 3.
         let b = Mat::from_fn(n, 11, |i, j| ((i * 31 + j * 17) % 23) as f64 - 11.0);
         let forward = symbolic.forward();
@@ -918,11 +918,9 @@ pub(crate) mod tests {
         // faer's own solve is the reference.
         let mut reference = b.clone();
         let mut mem = faer::dyn_stack::MemBuffer::new(
-            symbolic
-                .inner()
-                .solve_in_place_scratch::<f64>(b.ncols(), faer::Par::Seq),
+            faer_symbolic.solve_in_place_scratch::<f64>(b.ncols(), faer::Par::Seq),
         );
-        faer::sparse::linalg::cholesky::LdltRef::new(symbolic.inner(), &values)
+        faer::sparse::linalg::cholesky::LdltRef::new(&faer_symbolic, &values)
             .solve_in_place_with_conj(
                 faer::Conj::No,
                 reference.as_mut(),
@@ -941,12 +939,7 @@ pub(crate) mod tests {
             }
             for fma in [false, has_fma()] {
                 let mut x = b.clone();
-                plan.solve_with(
-                    SupernodalLdltRef::new(s, &values),
-                    &inverse,
-                    x.as_mut(),
-                    fma,
-                );
+                plan.solve_with(FactorRef::new(s, &values), &inverse, x.as_mut(), fma);
                 assert!(max_abs((&x - &reference).as_ref()) < 1e-13 * scale);
                 answers.push(x);
             }
@@ -964,7 +957,7 @@ pub(crate) mod tests {
             .unwrap();
         let solve = || {
             let mut x = b.clone();
-            let factor = SupernodalLdltRef::new(s, &values);
+            let factor = FactorRef::new(s, &values);
             pool.install(|| plan.solve_with(factor, &inverse, x.as_mut(), has_fma()));
             x
         };
