@@ -109,7 +109,7 @@ impl SymbolicLdlt {
     /// with the same lower triangle), or `None` for faer's AMD.
     ///
     /// Under nested dissection the supernodes come from the graph of the
-    /// nodes ([`Supernodes::of_groups`]); faer analyses the equations
+    /// nodes ([`crate::supernodes`]); faer analyses the equations
     /// under AMD, and where the factor is simplicial.
     pub fn analyze_permuted(
         pattern: SymbolicSparseColMatRef<'_, usize>,

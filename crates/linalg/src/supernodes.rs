@@ -4,14 +4,14 @@
 //! A supernode is a range of consecutive columns of `L` whose rows below
 //! their diagonal block share one pattern. Its values are one column-major
 //! block: the diagonal block's rows first, then the pattern's (faer's
-//! layout, which [`crate::numeric`] and [`crate::supernodal`] read).
+//! layout, which the numeric factorisation and [`crate::supernodal`] read).
 //!
 //! The 3 translations of a solid node have the same closed neighbourhood
 //! (adjacency plus themselves), and nested dissection keeps them together
 //! ([`crate::ordering`]). Such equations always fall into one supernode, so
 //! the elimination tree, the column counts, the supernodes and their
 //! patterns can be computed on the graph of these *groups* and expanded to
-//! the equations afterwards: [`Supernodes::of_groups`] does faer's
+//! the equations afterwards: `Supernodes::of_groups` does faer's
 //! symbolic analysis (fundamental supernodes, then its relaxed
 //! amalgamation) on a graph 3 times smaller with 9 times fewer edges, and
 //! gives faer's structure exactly, entry for entry. At 3e5 DOFs (C3D8 box
