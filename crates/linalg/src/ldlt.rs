@@ -8,7 +8,7 @@
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
 use crate::numeric::{Input, UpdatePlan};
-use crate::ordering::{nested_dissection, Ordering};
+use crate::ordering::{nested_dissection, Dissection, Ordering};
 use crate::progress::Stage;
 use crate::supernodal::SolvePlan;
 use crate::supernodes::{FactorRef, Supernodes};
@@ -104,16 +104,16 @@ impl SymbolicLdlt {
         Self::analyze_permuted(pattern, permutation)
     }
 
-    /// [`Self::analyze_pattern`] with the nested-dissection permutation
-    /// `(forward, inverse)` of `pattern` already computed (from a pattern
-    /// with the same lower triangle), or `None` for faer's AMD.
+    /// [`Self::analyze_pattern`] with the nested-dissection order already
+    /// computed (from this pattern, or one that contains it), or `None`
+    /// for faer's AMD.
     ///
     /// Under nested dissection the supernodes come from the graph of the
     /// nodes ([`crate::supernodes`]); faer analyses the equations
     /// under AMD, and where the factor is simplicial.
     pub fn analyze_permuted(
         pattern: SymbolicSparseColMatRef<'_, usize>,
-        permutation: Option<(Vec<usize>, Vec<usize>)>,
+        permutation: Option<Dissection>,
     ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
         let ordering = if permutation.is_some() {
@@ -121,22 +121,31 @@ impl SymbolicLdlt {
         } else {
             Ordering::Amd
         };
-        if let Some((fwd, inv)) = &permutation {
-            if fwd.len() != n || inv.len() != n {
+        if let Some(d) = &permutation {
+            if d.forward.len() != n || d.inverse.len() != n {
                 return Err(LinalgError::Dimension(format!(
                     "a permutation of {} equations for a {n}-equation pattern",
-                    fwd.len()
+                    d.forward.len()
                 )));
             }
-            if let Some(supernodes) = Supernodes::of_groups(pattern, fwd, inv) {
-                let (fwd, inv) = permutation.unwrap_or_default();
+            if let Some(supernodes) = Supernodes::of_dissection(pattern, d) {
+                let Some(Dissection {
+                    forward, inverse, ..
+                }) = permutation
+                else {
+                    unreachable!("the order was given")
+                };
+                let supernodal = Supernodal::new(supernodes, forward, inverse);
                 return Ok(Self {
-                    inner: Arc::new(Analysis::Supernodal(Supernodal::new(supernodes, fwd, inv))),
+                    inner: Arc::new(Analysis::Supernodal(supernodal)),
                     ordering,
                 });
             }
         }
-        let inner = faer_analysis(pattern, permutation.as_ref())?;
+        let order = permutation
+            .as_ref()
+            .map(|d| (d.forward.as_slice(), d.inverse.as_slice()));
+        let inner = faer_analysis(pattern, order)?;
         let inner = match inner.raw() {
             SymbolicCholeskyRaw::Supernodal(s) => {
                 let (fwd, inv) = match inner.perm() {
@@ -201,7 +210,7 @@ impl SymbolicLdlt {
         for (new, &old) in forward.iter().enumerate() {
             inverse[old] = new;
         }
-        faer_analysis(pattern, Some(&(forward, inverse))).unwrap()
+        faer_analysis(pattern, Some((&forward, &inverse))).unwrap()
     }
 
     /// The supernodes, where the factor is supernodal.
@@ -381,7 +390,7 @@ impl SymbolicLdlt {
 /// permutation `(forward, inverse)`, or under faer's AMD.
 pub(crate) fn faer_analysis(
     pattern: SymbolicSparseColMatRef<'_, usize>,
-    permutation: Option<&(Vec<usize>, Vec<usize>)>,
+    permutation: Option<(&[usize], &[usize])>,
 ) -> Result<SymbolicCholesky<usize>, LinalgError> {
     let n = pattern.nrows();
     let ordering = match permutation {

@@ -43,16 +43,79 @@ impl Ordering {
     }
 }
 
-/// A nested-dissection permutation of a symmetric matrix from its pattern,
-/// as `(forward, inverse)`: `forward[new] = old`, `inverse[old] = new`.
-/// Only the lower triangle (rows `>=` the column) is read, so the pattern
-/// may hold both triangles or just that one.
+/// A fill-reducing order of the equations, with the node graph it was
+/// computed on where it came from [`nested_dissection`] (the symbolic
+/// analysis then works on that graph: [`crate::supernodes`]).
+#[derive(Clone, Debug)]
+pub struct Dissection {
+    /// `forward[new] = old`.
+    pub forward: Vec<usize>,
+    /// `inverse[old] = new`.
+    pub inverse: Vec<usize>,
+    pub(crate) graph: Option<NodeGraph>,
+}
+
+/// Equations merged into vertices, and the vertices' adjacency.
+#[derive(Clone, Debug)]
+pub(crate) struct NodeGraph {
+    /// `vertex_of[old]`: the vertex of each equation.
+    pub(crate) vertex_of: Vec<u32>,
+    /// `adjncy[xadj[v]..xadj[v + 1]]`: the neighbours of vertex `v`.
+    pub(crate) xadj: Vec<i32>,
+    pub(crate) adjncy: Vec<i32>,
+}
+
+impl Dissection {
+    /// An order given as `forward[new] = old`, `inverse[old] = new`,
+    /// without a graph.
+    pub fn from_order(forward: Vec<usize>, inverse: Vec<usize>) -> Self {
+        Self {
+            forward,
+            inverse,
+            graph: None,
+        }
+    }
+
+    /// The order of the equations `keep` (ascending, renumbered from 0)
+    /// within this one. Eliminating a subgraph in the induced order fills
+    /// only a subgraph, so it has no more fill than the whole.
+    pub fn restricted(self, keep: &[usize]) -> Self {
+        let mut kept = vec![usize::MAX; self.forward.len()];
+        for (new, &old) in keep.iter().enumerate() {
+            kept[old] = new;
+        }
+        let forward: Vec<usize> = self
+            .forward
+            .iter()
+            .map(|&old| kept[old])
+            .filter(|&i| i != usize::MAX)
+            .collect();
+        let mut inverse = vec![0; forward.len()];
+        for (new, &old) in forward.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let graph = self.graph.map(|g| NodeGraph {
+            vertex_of: keep.iter().map(|&old| g.vertex_of[old]).collect(),
+            xadj: g.xadj,
+            adjncy: g.adjncy,
+        });
+        Self {
+            forward,
+            inverse,
+            graph,
+        }
+    }
+}
+
+/// A nested-dissection order of a symmetric matrix from its pattern. Only
+/// the lower triangle (rows `>=` the column) is read, so the pattern may
+/// hold both triangles or just that one.
 pub fn nested_dissection(
     pattern: SymbolicSparseColMatRef<'_, usize>,
-) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+) -> Result<Dissection, LinalgError> {
     let n = pattern.nrows();
     if n == 0 {
-        return Ok((vec![], vec![]));
+        return Ok(Dissection::from_order(vec![], vec![]));
     }
     let lower = |j: usize| pattern.row_idx_of_col(j).filter(move |&i| i > j);
     // Supervariables: runs of consecutive columns with equal closed
@@ -133,11 +196,20 @@ pub fn nested_dissection(
     for (new, &old) in forward.iter().enumerate() {
         inverse[old] = new;
     }
-    Ok((forward, inverse))
+    let graph = NodeGraph {
+        vertex_of: vertex_of.into_iter().map(|v| v as u32).collect(),
+        xadj,
+        adjncy,
+    };
+    Ok(Dissection {
+        forward,
+        inverse,
+        graph: Some(graph),
+    })
 }
 
 /// A 64-bit mix of an index (splitmix64's finaliser).
-fn mix(i: usize) -> u64 {
+pub(crate) fn mix(i: usize) -> u64 {
     let mut z = (i as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -279,7 +351,11 @@ mod tests {
     #[test]
     fn nested_dissection_is_a_permutation_keeping_node_blocks() {
         let a = grid(20, 15);
-        let (fwd, inv) = nested_dissection(a.symbolic()).unwrap();
+        let Dissection {
+            forward: fwd,
+            inverse: inv,
+            ..
+        } = nested_dissection(a.symbolic()).unwrap();
         let n = a.nrows();
         let mut seen = vec![false; n];
         for &o in &fwd {
@@ -301,7 +377,7 @@ mod tests {
             })
             .collect();
         let lower = from_triplets(n, n, &n_lower).unwrap();
-        assert_eq!(nested_dissection(lower.symbolic()).unwrap().0, fwd);
+        assert_eq!(nested_dissection(lower.symbolic()).unwrap().forward, fwd);
         // Node blocks stay together and in order.
         for c in fwd.chunks(3) {
             assert_eq!(c[0] % 3, 0);

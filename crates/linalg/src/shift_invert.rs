@@ -133,7 +133,7 @@ impl ShiftedPencil {
                 (nested && shared).then(|| {
                     let order = nested_dissection(k.symbolic())?;
                     Ok(match keep {
-                        Some(keep) => restricted(&order.0, keep),
+                        Some(keep) => order.restricted(keep),
                         None => order,
                     })
                 })
@@ -376,26 +376,6 @@ impl ShiftedPencil {
     }
 }
 
-/// The order `forward` (`forward[new] = old`) of all equations restricted
-/// to `keep` (ascending), renumbered `0..keep.len()`, as `(forward,
-/// inverse)`.
-fn restricted(forward: &[usize], keep: &[usize]) -> (Vec<usize>, Vec<usize>) {
-    let mut kept = vec![usize::MAX; forward.len()];
-    for (new, &old) in keep.iter().enumerate() {
-        kept[old] = new;
-    }
-    let forward: Vec<usize> = forward
-        .iter()
-        .map(|&old| kept[old])
-        .filter(|&i| i != usize::MAX)
-        .collect();
-    let mut inverse = vec![0; forward.len()];
-    for (new, &old) in forward.iter().enumerate() {
-        inverse[old] = new;
-    }
-    (forward, inverse)
-}
-
 impl ShiftedFactor {
     /// The shift `sigma` of this factorisation.
     pub fn shift(&self) -> f64 {
@@ -458,7 +438,13 @@ mod tests {
         let n = 60;
         let (k, m) = chain(n);
         let keep: Vec<usize> = (0..n).filter(|&i| i != 0 && i != 30).collect();
-        let (fwd, inv) = restricted(&(0..n).rev().collect::<Vec<_>>(), &keep);
+        let reverse =
+            crate::ordering::Dissection::from_order((0..n).rev().collect(), (0..n).rev().collect());
+        let crate::ordering::Dissection {
+            forward: fwd,
+            inverse: inv,
+            ..
+        } = reverse.restricted(&keep);
         assert_eq!(fwd, (0..keep.len()).rev().collect::<Vec<_>>());
         assert!(inv.iter().enumerate().all(|(old, &new)| fwd[new] == old));
         let sub = |a: &SparseMat| crate::sparse::submatrix(a, &keep, &keep);
