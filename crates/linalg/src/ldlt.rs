@@ -283,13 +283,9 @@ impl SymbolicLdlt {
         a: Input<'_>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        // Every block is cleared where it is factorised: reused storage of
-        // this length is taken as it is, new storage zeroed by the
-        // allocator (pages touched first by the threads that fill them).
-        let len = s.supernodes.len_val();
-        if values.len() != len {
-            *values = vec![0.0; len];
-        }
+        // Every block is cleared where it is factorised: storage is taken
+        // as it is, only fitted to the factor's length.
+        crate::memory::fit(values, s.supernodes.len_val());
         crate::numeric::factorize(&s.supernodes, &s.plan, &s.updates, a, &s.inverse, values)
             .map_err(|index| self.zero_pivot(index))
     }
