@@ -3,7 +3,8 @@
 //! Other crates keep their data in faer's [`faer::Mat`] and
 //! [`faer::sparse::SparseColMat`] and call these algorithms:
 //! - [`ldlt`]: sparse `LDL^T` with a symbolic/numeric split, block solves,
-//!   pivot inspection (singularity, inertia);
+//!   pivot inspection (singularity, inertia); its supernodes
+//!   ([`supernodes`]) analysed on the node graph;
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
 //!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the

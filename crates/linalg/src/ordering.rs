@@ -11,7 +11,8 @@
 //! DOFs of a beam node) are merged into one vertex ("supervariable"), METIS
 //! orders the vertices, and the order is expanded back to the equations.
 //! This makes the graph 3-6 times smaller and the ordering that much faster,
-//! with the same fill.
+//! with the same fill. The order comes with that graph ([`Dissection`]):
+//! the symbolic analysis works on it too ([`crate::supernodes`]).
 
 use crate::LinalgError;
 use faer::sparse::SymbolicSparseColMatRef;

@@ -15,7 +15,9 @@
 //! symbolic analysis (fundamental supernodes, then its relaxed
 //! amalgamation) on a graph 3 times smaller with 9 times fewer edges, and
 //! gives faer's structure exactly, entry for entry. At 3e5 DOFs (C3D8 box
-//! beam) it takes 0.07 s where faer's analysis of the equations took 0.38 s.
+//! beam; 54300 groups) it takes 0.075 s with the plans of the parallel
+//! factorisation and solves, where faer's analysis of the equations took
+//! 0.38 s.
 
 use crate::ordering::{mix, Dissection, NodeGraph};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
