@@ -245,16 +245,7 @@ impl Supernodes {
         }
         fund_start.push(ng);
         let nf = fund_start.len() - 1;
-        let mut group_super = vec![0usize; ng];
-        for f in 0..nf {
-            group_super[fund_start[f]..fund_start[f + 1]].fill(f);
-        }
-        let fund_parent: Vec<usize> = (0..nf)
-            .map(|f| match parent[fund_start[f + 1] - 1] {
-                NONE => NONE,
-                p => group_super[p],
-            })
-            .collect();
+        let (_, fund_parent) = supernode_tree(&fund_start, &parent);
         let fund_size: Vec<usize> = (0..nf)
             .map(|f| groups.start[fund_start[f + 1]] - groups.start[fund_start[f]])
             .collect();
@@ -269,15 +260,7 @@ impl Supernodes {
             }
         }
         let ns = super_start.len() - 1;
-        for s in 0..ns {
-            group_super[super_start[s]..super_start[s + 1]].fill(s);
-        }
-        let super_parent: Vec<usize> = (0..ns)
-            .map(|s| match parent[super_start[s + 1] - 1] {
-                NONE => NONE,
-                p => group_super[p],
-            })
-            .collect();
+        let (group_super, super_parent) = supernode_tree(&super_start, &parent);
         // Patterns (in groups): row K joins every supernode on the paths
         // from its neighbours' supernodes up to its own.
         let mut visited = vec![usize::MAX; ns];
@@ -553,6 +536,24 @@ impl Graph {
     fn of(&self, k: usize) -> &[u32] {
         &self.adj[self.ptr[k]..self.ptr[k + 1]]
     }
+}
+
+/// The supernodes of the ranges of groups `start[s]..start[s + 1]`: the
+/// supernode of each group, and the parent of each supernode in the
+/// groups' elimination tree `parent` (`NONE` for a root).
+fn supernode_tree(start: &[usize], parent: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let ns = start.len() - 1;
+    let mut of = vec![0usize; parent.len()];
+    for s in 0..ns {
+        of[start[s]..start[s + 1]].fill(s);
+    }
+    let up = (0..ns)
+        .map(|s| match parent[start[s + 1] - 1] {
+            NONE => NONE,
+            p => of[p],
+        })
+        .collect();
+    (of, up)
 }
 
 /// Liu's elimination tree with path compression, from each group's lower
