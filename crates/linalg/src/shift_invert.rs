@@ -234,19 +234,18 @@ impl ShiftedPencil {
         self.pattern
             .add_scaled(&mut a, -sigma, &self.mass_pattern, &self.m);
         if let Some(fixed) = fixed {
-            let col_ptr = self.pattern.col_ptr();
-            for j in 0..self.dim() {
-                let range = col_ptr[j]..col_ptr[j + 1];
-                for (p, &i) in range.clone().zip(self.pattern.rows_of(j)) {
+            self.pattern.for_each_column(&mut a, &|j, rows, a| {
+                for (v, &i) in a.iter_mut().zip(rows) {
                     let i = i as usize;
-                    if i != j && (fixed[i] || fixed[j]) {
-                        a[p] = 0.0;
+                    if i == j {
+                        if fixed[j] && *v == 0.0 {
+                            *v = 1.0;
+                        }
+                    } else if fixed[i] || fixed[j] {
+                        *v = 0.0;
                     }
                 }
-                if fixed[j] && a[range.start] == 0.0 {
-                    a[range.start] = 1.0;
-                }
-            }
+            });
         }
         a
     }
