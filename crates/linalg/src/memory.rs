@@ -11,7 +11,8 @@
 //! Freed heap memory stays resident until [`release_free_memory`] hands it
 //! back, which the solver does between its phases (after the Lanczos run,
 //! before the next factorisation) and the command line after loading a
-//! model.
+//! model. A factor's storage can also be touched ahead, by a thread that
+//! would otherwise wait (`touch_until`), and fitted to the factor (`fit`).
 
 use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
 
