@@ -121,27 +121,25 @@ impl SymbolicLdlt {
         } else {
             Ordering::Amd
         };
-        if let Some(d) = &permutation {
-            if d.forward.len() != n || d.inverse.len() != n {
+        let permutation = match permutation {
+            Some(d) if d.forward.len() != n || d.inverse.len() != n => {
                 return Err(LinalgError::Dimension(format!(
                     "a permutation of {} equations for a {n}-equation pattern",
                     d.forward.len()
                 )));
             }
-            if let Some(supernodes) = Supernodes::of_dissection(pattern, d) {
-                let Some(Dissection {
-                    forward, inverse, ..
-                }) = permutation
-                else {
-                    unreachable!("the order was given")
-                };
-                let supernodal = Supernodal::new(supernodes, forward, inverse);
-                return Ok(Self {
-                    inner: Arc::new(Analysis::Supernodal(supernodal)),
-                    ordering,
-                });
-            }
-        }
+            Some(d) => match Supernodes::of_dissection(pattern, &d) {
+                Some(supernodes) => {
+                    let supernodal = Supernodal::new(supernodes, d.forward, d.inverse);
+                    return Ok(Self {
+                        inner: Arc::new(Analysis::Supernodal(supernodal)),
+                        ordering,
+                    });
+                }
+                None => Some(d),
+            },
+            None => None,
+        };
         let order = permutation
             .as_ref()
             .map(|d| (d.forward.as_slice(), d.inverse.as_slice()));

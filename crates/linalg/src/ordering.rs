@@ -120,29 +120,18 @@ pub fn nested_dissection(
     }
     let lower = |j: usize| pattern.row_idx_of_col(j).filter(move |&i| i > j);
     // Supervariables: runs of consecutive columns with equal closed
-    // neighbourhoods (adjacency plus itself), recognised by the degree and
-    // a 64-bit hash of the neighbourhood. A collision would merge two
-    // columns wrongly; that costs fill, never correctness.
-    let mut hash: Vec<u64> = (0..n).map(mix).collect();
-    let mut degree = vec![0usize; n];
-    for j in 0..n {
-        for i in lower(j) {
-            hash[j] = hash[j].wrapping_add(mix(i));
-            hash[i] = hash[i].wrapping_add(mix(j));
-            degree[i] += 1;
-            degree[j] += 1;
-        }
-    }
+    // neighbourhoods. A hash collision would merge two columns wrongly;
+    // that costs fill, never correctness.
+    let key = neighbourhoods(pattern);
     let mut first_of = Vec::with_capacity(n / 3 + 1); // first column of each vertex
     let mut vertex_of = vec![0usize; n];
     for j in 0..n {
-        if j == 0 || hash[j] != hash[j - 1] || degree[j] != degree[j - 1] {
+        if j == 0 || key[j] != key[j - 1] {
             first_of.push(j);
         }
         vertex_of[j] = first_of.len() - 1;
     }
-    drop(hash);
-    drop(degree);
+    drop(key);
     let nv = first_of.len();
     first_of.push(n);
     if nv > i32::MAX as usize {
@@ -207,6 +196,23 @@ pub fn nested_dissection(
         inverse,
         graph: Some(graph),
     })
+}
+
+/// The degree and a 64-bit hash of each equation's closed neighbourhood
+/// (adjacency plus itself) in a symmetric pattern of which the lower
+/// triangle is read: equal for equations coupled alike.
+pub(crate) fn neighbourhoods(pattern: SymbolicSparseColMatRef<'_, usize>) -> Vec<(usize, u64)> {
+    let n = pattern.nrows();
+    let mut key: Vec<(usize, u64)> = (0..n).map(|i| (0, mix(i))).collect();
+    for j in 0..n {
+        for i in pattern.row_idx_of_col(j).filter(|&i| i > j) {
+            key[j].0 += 1;
+            key[j].1 = key[j].1.wrapping_add(mix(i));
+            key[i].0 += 1;
+            key[i].1 = key[i].1.wrapping_add(mix(j));
+        }
+    }
+    key
 }
 
 /// A 64-bit mix of an index (splitmix64's finaliser).

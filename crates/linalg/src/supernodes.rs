@@ -19,7 +19,7 @@
 //! factorisation and solves, where faer's analysis of the equations took
 //! 0.38 s.
 
-use crate::ordering::{mix, Dissection, NodeGraph};
+use crate::ordering::{mix, neighbourhoods, Dissection, NodeGraph};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::MatRef;
@@ -445,21 +445,11 @@ impl Groups {
         inverse: &[usize],
     ) -> (Self, Vec<u32>) {
         let n = pattern.nrows();
-        let mut hash: Vec<u64> = (0..n).map(mix).collect();
-        let mut degree = vec![0u32; n];
-        for j in 0..n {
-            for i in pattern.row_idx_of_col(j).filter(|&i| i > j) {
-                hash[j] = hash[j].wrapping_add(mix(i));
-                hash[i] = hash[i].wrapping_add(mix(j));
-                degree[i] += 1;
-                degree[j] += 1;
-            }
-        }
+        let key = neighbourhoods(pattern);
         let mut start = vec![0usize];
         let mut of_new = vec![0u32; n];
         for p in 1..n {
-            let (a, b) = (forward[p - 1], forward[p]);
-            if hash[a] != hash[b] || degree[a] != degree[b] {
+            if key[forward[p - 1]] != key[forward[p]] {
                 start.push(p);
             }
             of_new[p] = (start.len() - 1) as u32;
