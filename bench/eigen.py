@@ -157,7 +157,7 @@ def agree(name, hz, ref, least=20):
 
 def floor_seconds(log):
     """Ordering + one factorisation of K - sigma M from a --verbose log."""
-    analysed = re.search(r"analysed: \d+ entries in L \(([\d.]+) s\)", log)
+    analysed = re.search(r"analysed: \d+ entries in L[^(]*\(([\d.]+) s\)", log)
     factorised = re.search(r"factorised \(([\d.]+) s\)", log)
     if analysed and factorised:
         return float(analysed.group(1)) + float(factorised.group(1))

@@ -198,8 +198,12 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
         Stage::Ordering { equations } => format!("ordering {equations} equations"),
         Stage::Analyzed {
             factor_len,
+            flops,
             seconds,
-        } => format!("analysed: {factor_len} entries in L ({seconds:.1} s)"),
+        } => format!(
+            "analysed: {factor_len} entries in L, {:.1} GFlop per factorisation ({seconds:.1} s)",
+            flops * 1e-9
+        ),
         Stage::Factorization { shift } if *shift == 0.0 => "factorising K".to_string(),
         Stage::Factorization { shift } => {
             format!("factorising K - sigma M, sigma = {shift:.3e}")

@@ -176,6 +176,22 @@ impl SymbolicLdlt {
         }
     }
 
+    /// Floating-point operations of one numeric factorisation (see
+    /// [`Supernodes::flops`]).
+    pub fn factor_flops(&self) -> f64 {
+        match &*self.inner {
+            Analysis::Supernodal(s) => s.supernodes.flops(),
+            Analysis::Simplicial(s) => match s.raw() {
+                SymbolicCholeskyRaw::Simplicial(s) => s
+                    .col_ptr()
+                    .windows(2)
+                    .map(|w| ((w[1] - w[0]).saturating_sub(1) as f64).powi(2))
+                    .sum(),
+                SymbolicCholeskyRaw::Supernodal(s) => Supernodes::from_faer(s).flops(),
+            },
+        }
+    }
+
     /// The ordering used (with [`Ordering::Auto`] resolved).
     pub fn ordering(&self) -> Ordering {
         self.ordering
@@ -245,31 +261,33 @@ impl SymbolicLdlt {
         }
     }
 
-    /// [`Self::factorize_into`] for the lower triangle in compressed
-    /// columns with 32-bit rows (`col_ptr`, `row_idx`, `a`): the
-    /// supernodal factorisation reads them as they are; only a small,
-    /// simplicial one widens the rows for faer.
-    pub(crate) fn factorize_compact_into(
+    /// [`Self::factorize_into`] for a lower triangle given as an
+    /// [`Input`] (compressed columns with 32-bit rows, or a shift-invert
+    /// pencil's `K - sigma M` formed as it is read): the supernodal
+    /// factorisation reads it as it is; only a small, simplicial one makes
+    /// faer's matrix of it.
+    pub(crate) fn factorize_input_into(
         &self,
-        col_ptr: &[usize],
-        row_idx: &[u32],
-        a: &[f64],
+        input: Input<'_>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => {
-                let input = Input::Compact {
-                    col_ptr,
-                    row_idx,
-                    values: a,
-                };
-                self.factorize_supernodal(s, input, values)
-            }
+            Analysis::Supernodal(s) => self.factorize_supernodal(s, input, values),
             Analysis::Simplicial(sym) => {
-                let n = col_ptr.len() - 1;
-                let wide: Vec<usize> = row_idx.iter().map(|&i| i as usize).collect();
+                let n = input.ncols();
+                let col_ptr = input.col_ptr();
+                let mut wide = Vec::with_capacity(col_ptr[n]);
+                for j in 0..n {
+                    input.lower_of(j, |i, _| wide.push(i));
+                }
+                let a = input.lower_values();
+                if wide.len() != col_ptr[n] {
+                    return Err(LinalgError::Dimension(
+                        "the factorisation's input is not a lower triangle".into(),
+                    ));
+                }
                 let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
-                self.factorize_simplicial(sym, SparseColMatRef::new(pattern, a), values)
+                self.factorize_simplicial(sym, SparseColMatRef::new(pattern, &a), values)
             }
         }
     }
@@ -283,9 +301,46 @@ impl SymbolicLdlt {
     ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: storage is taken
         // as it is, only fitted to the factor's length.
+        self.factorize_panels(s, a, values, crate::numeric::PANEL_ENTRIES)
+    }
+
+    /// [`Self::factorize_supernodal`] with update products of at most
+    /// `panel_entries` entries at a time.
+    fn factorize_panels(
+        &self,
+        s: &Supernodal,
+        a: Input<'_>,
+        values: &mut Vec<f64>,
+        panel_entries: usize,
+    ) -> Result<(), LinalgError> {
         crate::memory::fit(values, s.supernodes.len_val());
-        crate::numeric::factorize(&s.supernodes, &s.plan, &s.updates, a, &s.inverse, values)
-            .map_err(|index| self.zero_pivot(index))
+        crate::numeric::factorize(
+            &s.supernodes,
+            &s.plan,
+            &s.updates,
+            a,
+            &s.inverse,
+            values,
+            panel_entries,
+        )
+        .map_err(|index| self.zero_pivot(index))
+    }
+
+    /// [`Self::factorize_into`] of a supernodal analysis with update
+    /// products split into panels of at most `panel_entries` entries.
+    #[cfg(test)]
+    pub(crate) fn factorize_in_panels(
+        &self,
+        a: SparseColMatRef<'_, usize, f64>,
+        values: &mut Vec<f64>,
+        panel_entries: usize,
+    ) -> Result<(), LinalgError> {
+        match &*self.inner {
+            Analysis::Supernodal(s) => {
+                self.factorize_panels(s, Input::Faer(a), values, panel_entries)
+            }
+            Analysis::Simplicial(_) => Err(LinalgError::Dimension("a simplicial analysis".into())),
+        }
     }
 
     /// faer's numeric factorisation of a simplicial analysis.
@@ -428,6 +483,7 @@ impl Ldlt {
         let symbolic = SymbolicLdlt::analyze(a)?;
         progress.report(&Stage::Analyzed {
             factor_len: symbolic.factor_len(),
+            flops: symbolic.factor_flops(),
             seconds: t.elapsed().as_secs_f64(),
         });
         let t = std::time::Instant::now();

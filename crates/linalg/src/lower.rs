@@ -263,17 +263,6 @@ impl LowerPattern {
         });
     }
 
-    /// Calls `f(j, rows, values)` for every column `j` with its rows and
-    /// its part of `values` (an array over the pattern's entries), chunks
-    /// of columns in parallel.
-    pub(crate) fn for_each_column(
-        &self,
-        values: &mut [f64],
-        f: &(impl Fn(usize, &[u32], &mut [f64]) + Sync),
-    ) {
-        self.by_column_chunks(0..self.dim(), values, f);
-    }
-
     /// Calls `f(j, rows, values)` for every column `j` in `cols` with its
     /// rows and its part of `values` (an array over the pattern's entries
     /// from column `cols.start` on), chunks of columns in parallel.

@@ -15,8 +15,13 @@ use std::sync::{Arc, RwLock};
 pub enum Stage {
     /// Fill-reducing ordering and symbolic analysis of an `n`-equation matrix.
     Ordering { equations: usize },
-    /// Symbolic analysis done: `factor_len` entries in `L`.
-    Analyzed { factor_len: usize, seconds: f64 },
+    /// Symbolic analysis done: `factor_len` entries in `L`, `flops`
+    /// floating-point operations per numeric factorisation.
+    Analyzed {
+        factor_len: usize,
+        flops: f64,
+        seconds: f64,
+    },
     /// Numeric `LDL^T` of `K - shift M` started.
     Factorization { shift: f64 },
     /// Numeric factorisation finished.

@@ -16,11 +16,11 @@
 
 use crate::ldlt::SymbolicLdlt;
 use crate::lower::LowerPattern;
+use crate::numeric::Input;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
 use faer::{Mat, MatMut, MatRef};
-use rayon::prelude::*;
 
 /// The pencil `(K, M)`: the lower triangle of `K` on the union pattern of
 /// both, that of `M` on its own pattern of nonzeros (a third of the union
@@ -226,28 +226,17 @@ impl ShiftedPencil {
         self.symbolic.factor_len()
     }
 
-    /// The lower triangle of `K - sigma M` on the pattern, in parallel.
-    /// The entries in a row or column of a `fixed` equation are left out,
-    /// but its diagonal (1 where `K - sigma M` has 0 there).
-    fn shifted_values(&self, sigma: f64, fixed: Option<&[bool]>) -> Vec<f64> {
-        let mut a = self.k.par_iter().copied().collect::<Vec<f64>>();
-        self.pattern
-            .add_scaled(&mut a, -sigma, &self.mass_pattern, &self.m);
-        if let Some(fixed) = fixed {
-            self.pattern.for_each_column(&mut a, &|j, rows, a| {
-                for (v, &i) in a.iter_mut().zip(rows) {
-                    let i = i as usize;
-                    if i == j {
-                        if fixed[j] && *v == 0.0 {
-                            *v = 1.0;
-                        }
-                    } else if fixed[i] || fixed[j] {
-                        *v = 0.0;
-                    }
-                }
-            });
+    /// The diagonal of `K - sigma M`, with 1 on a `fixed` equation where
+    /// it is 0 (as [`Input::Shifted`] forms it).
+    fn shifted_diagonal(&self, sigma: f64, fixed: Option<&[bool]>) -> Vec<f64> {
+        let mut d = self.stiffness_diagonal();
+        for (j, (d, m)) in d.iter_mut().zip(self.mass_diagonal()).enumerate() {
+            *d += -sigma * m;
+            if fixed.is_some_and(|f| f[j]) && *d == 0.0 {
+                *d = 1.0;
+            }
         }
-        a
+        d
     }
 
     /// Factorises `K - sigma M`. An exactly zero pivot (a shift on an
@@ -299,6 +288,7 @@ impl ShiftedPencil {
         let pencil = analyze()?;
         progress.report(&Stage::Analyzed {
             factor_len: pencil.factor_len(),
+            flops: pencil.symbolic.factor_flops(),
             seconds: t.elapsed().as_secs_f64(),
         });
         Ok(pencil)
@@ -356,15 +346,16 @@ impl ShiftedPencil {
             0 => self.spare.take(),
             _ => values,
         };
-        let a = self.shifted_values(sigma, fixed);
-        let diagonal = self.pattern.diagonal(&a);
-        let result = self.symbolic.factorize_compact_into(
-            self.pattern.col_ptr(),
-            self.pattern.row_idx(),
-            &a,
-            &mut values,
-        );
-        drop(a);
+        let diagonal = self.shifted_diagonal(sigma, fixed);
+        let input = Input::Shifted {
+            pattern: &self.pattern,
+            k: &self.k,
+            mass: &self.mass_pattern,
+            m: &self.m,
+            sigma,
+            fixed,
+        };
+        let result = self.symbolic.factorize_input_into(input, &mut values);
         if let Err(LinalgError::Singular { index, .. }) = result {
             return Err(LinalgError::Singular {
                 index: self.symbolic.forward()[index],

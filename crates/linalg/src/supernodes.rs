@@ -158,6 +158,22 @@ impl Supernodes {
         &self.val_ptr
     }
 
+    /// Floating-point operations of the numeric factorisation, `sum_j c_j^2`
+    /// over the columns `j` of `L` with `c_j` entries below the diagonal
+    /// (one multiply and one add per entry of each column's outer-product
+    /// update).
+    pub fn flops(&self) -> f64 {
+        (0..self.n_supernodes())
+            .map(|s| {
+                let w = self.begin[s + 1] - self.begin[s];
+                let p = self.row_ptr[s + 1] - self.row_ptr[s];
+                (0..w)
+                    .map(|k| ((w - 1 - k + p) as f64).powi(2))
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
     pub(crate) fn supernode(&self, s: usize) -> SupernodeRef<'_> {
         SupernodeRef {
             start: self.begin[s],
