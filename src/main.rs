@@ -512,6 +512,8 @@ fn run_reduce(
     (json, check): (bool, &str),
 ) -> Result<()> {
     let c = load(model, matrices)?;
+    // The assembly's work arrays go back before the factorisations.
+    flexbody::linalg::memory::release_free_memory();
     let mut spec = Reduction::new(method, modes, c.interface(interface)?);
     spec.max_frequency_hz = fmax;
     if let Some(file) = &c.file {
