@@ -18,6 +18,12 @@
 //! square is computed as a lower triangle, which took the top separators'
 //! products from 0.69 to 0.49 CPU-s. At 3e5 DOFs (C3D8 beam, 8.4e7 entries
 //! in `L`, 2 threads) a factorisation takes 0.9-1.0 s, faer's 1.8 s.
+//!
+//! Memory beyond `L`: the permuted lower triangle of `A` and, per thread,
+//! the buffers of one update. The large separators of a solid's factor get
+//! updates of thousands of rows and columns; they go by panels of columns
+//! ([`PANEL_ENTRIES`]), which took the transient of a factorisation at 1e6
+//! DOFs (solid C3D10, 16.8 GiB in `L`) from about 2.8 GiB to under 1 GiB.
 
 use crate::lower::LowerPattern;
 use crate::supernodal::SolvePlan;
@@ -514,9 +520,7 @@ impl Work<'_> {
         }
         Ok(())
     }
-}
 
-impl Work<'_> {
     /// Columns `c0..c0 + w` of a descendant's update `L_d,below D_d
     /// L_d,mid^T` subtracted from the block `ls` of `s`: `below` holds the
     /// descendant's rows from `s`'s first column on (those of `s`'s
