@@ -262,10 +262,9 @@ impl SymbolicLdlt {
     }
 
     /// [`Self::factorize_into`] for a lower triangle given as an
-    /// [`Input`] (compressed columns with 32-bit rows, or a shift-invert
-    /// pencil's `K - sigma M` formed as it is read): the supernodal
-    /// factorisation reads it as it is; only a small, simplicial one makes
-    /// faer's matrix of it.
+    /// [`Input`] (such as a shift-invert pencil's `K - sigma M`, formed as
+    /// it is read): the supernodal factorisation reads it as it is; only a
+    /// small, simplicial one makes faer's matrix of it.
     pub(crate) fn factorize_input_into(
         &self,
         input: Input<'_>,
@@ -280,12 +279,12 @@ impl SymbolicLdlt {
                 for j in 0..n {
                     input.lower_of(j, |i, _| wide.push(i));
                 }
-                let a = input.lower_values();
                 if wide.len() != col_ptr[n] {
                     return Err(LinalgError::Dimension(
                         "the factorisation's input is not a lower triangle".into(),
                     ));
                 }
+                let a = input.lower_values();
                 let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
                 self.factorize_simplicial(sym, SparseColMatRef::new(pattern, &a), values)
             }
@@ -299,8 +298,6 @@ impl SymbolicLdlt {
         a: Input<'_>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
-        // Every block is cleared where it is factorised: storage is taken
-        // as it is, only fitted to the factor's length.
         self.factorize_panels(s, a, values, crate::numeric::PANEL_ENTRIES)
     }
 
@@ -313,6 +310,8 @@ impl SymbolicLdlt {
         values: &mut Vec<f64>,
         panel_entries: usize,
     ) -> Result<(), LinalgError> {
+        // Every block is cleared where it is factorised: storage is taken
+        // as it is, only fitted to the factor's length.
         crate::memory::fit(values, s.supernodes.len_val());
         crate::numeric::factorize(
             &s.supernodes,
