@@ -7,7 +7,7 @@
 //! in the original row order so that a vanishing pivot names the DOF where a
 //! matrix is singular, and their signs give the inertia (Sturm count).
 
-use crate::numeric::{Input, UpdatePlan};
+use crate::numeric::{Input, Panels, UpdatePlan};
 use crate::ordering::{nested_dissection, Dissection, Ordering};
 use crate::progress::Stage;
 use crate::supernodal::SolvePlan;
@@ -187,7 +187,12 @@ impl SymbolicLdlt {
                     .windows(2)
                     .map(|w| ((w[1] - w[0]).saturating_sub(1) as f64).powi(2))
                     .sum(),
-                SymbolicCholeskyRaw::Supernodal(s) => Supernodes::from_faer(s).flops(),
+                SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+                    .map(|k| {
+                        let width = s.supernode_end()[k] - s.supernode_begin()[k];
+                        crate::supernodes::supernode_flops(width, s.supernode(k).pattern().len())
+                    })
+                    .sum(),
             },
         }
     }
@@ -256,7 +261,9 @@ impl SymbolicLdlt {
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => self.factorize_supernodal(s, Input::Faer(a), values),
+            Analysis::Supernodal(s) => {
+                self.factorize_supernodal(s, Input::Faer(a), values, Panels::DEFAULT)
+            }
             Analysis::Simplicial(sym) => self.factorize_simplicial(sym, a, values),
         }
     }
@@ -271,44 +278,30 @@ impl SymbolicLdlt {
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => self.factorize_supernodal(s, input, values),
+            Analysis::Supernodal(s) => self.factorize_supernodal(s, input, values, Panels::DEFAULT),
             Analysis::Simplicial(sym) => {
                 let n = input.ncols();
                 let col_ptr = input.col_ptr();
-                let mut wide = Vec::with_capacity(col_ptr[n]);
-                for j in 0..n {
-                    input.lower_of(j, |i, _| wide.push(i));
-                }
-                if wide.len() != col_ptr[n] {
+                let (rows, a) = input.lower_triangle();
+                if rows.len() != col_ptr[n] {
                     return Err(LinalgError::Dimension(
                         "the factorisation's input is not a lower triangle".into(),
                     ));
                 }
-                let a = input.lower_values();
-                let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &wide);
+                let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, &rows);
                 self.factorize_simplicial(sym, SparseColMatRef::new(pattern, &a), values)
             }
         }
     }
 
-    /// Our parallel numeric factorisation of a supernodal analysis.
+    /// Our parallel numeric factorisation of a supernodal analysis, large
+    /// updates split as `panels` says.
     fn factorize_supernodal(
         &self,
         s: &Supernodal,
         a: Input<'_>,
         values: &mut Vec<f64>,
-    ) -> Result<(), LinalgError> {
-        self.factorize_panels(s, a, values, crate::numeric::PANEL_ENTRIES)
-    }
-
-    /// [`Self::factorize_supernodal`] with update products of at most
-    /// `panel_entries` entries at a time.
-    fn factorize_panels(
-        &self,
-        s: &Supernodal,
-        a: Input<'_>,
-        values: &mut Vec<f64>,
-        panel_entries: usize,
+        panels: Panels,
     ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: storage is taken
         // as it is, only fitted to the factor's length.
@@ -320,24 +313,22 @@ impl SymbolicLdlt {
             a,
             &s.inverse,
             values,
-            panel_entries,
+            panels,
         )
         .map_err(|index| self.zero_pivot(index))
     }
 
-    /// [`Self::factorize_into`] of a supernodal analysis with update
-    /// products split into panels of at most `panel_entries` entries.
+    /// [`Self::factorize_into`] of a supernodal analysis with large updates
+    /// split as `panels` says.
     #[cfg(test)]
     pub(crate) fn factorize_in_panels(
         &self,
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
-        panel_entries: usize,
+        panels: Panels,
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => {
-                self.factorize_panels(s, Input::Faer(a), values, panel_entries)
-            }
+            Analysis::Supernodal(s) => self.factorize_supernodal(s, Input::Faer(a), values, panels),
             Analysis::Simplicial(_) => Err(LinalgError::Dimension("a simplicial analysis".into())),
         }
     }

@@ -22,7 +22,7 @@
 //! Memory beyond `L`: the permuted lower triangle of `A` and, per thread,
 //! the buffers of one update. The large separators of a solid's factor get
 //! updates of thousands of rows and columns; they go by panels of columns
-//! ([`PANEL_ENTRIES`]), which took the transient of a factorisation at 1e6
+//! ([`Panels`]), which took the transient of a factorisation at 1e6
 //! DOFs (solid C3D10, 16.8 GiB in `L`) from about 2.8 GiB to under 1 GiB.
 
 use crate::lower::LowerPattern;
@@ -149,6 +149,26 @@ impl Input<'_> {
         }
     }
 
+    /// Calls `f(row)` for the entries of column `j` on or below the
+    /// diagonal (their values not formed).
+    #[inline]
+    fn lower_rows_of(&self, j: usize, mut f: impl FnMut(usize)) {
+        let rows = match self {
+            Input::Faer(a) => {
+                a.row_idx_of_col_raw(j)
+                    .iter()
+                    .filter(|&&i| i >= j)
+                    .for_each(|&i| f(i));
+                return;
+            }
+            Input::Shifted { pattern, .. } => pattern.rows_of(j),
+        };
+        rows.iter()
+            .map(|&i| i as usize)
+            .filter(|&i| i >= j)
+            .for_each(f);
+    }
+
     /// Calls `f(row, value)` for the entries of column `j` on or below the
     /// diagonal.
     #[inline]
@@ -197,14 +217,18 @@ impl Input<'_> {
         }
     }
 
-    /// The values in the order of the entries of `col_ptr()` (every entry
-    /// on or below the diagonal: a lower triangle).
-    pub(crate) fn lower_values(&self) -> Vec<f64> {
-        let mut values = Vec::with_capacity(self.col_ptr()[self.ncols()]);
+    /// The rows and values of the entries on or below the diagonal,
+    /// column after column.
+    pub(crate) fn lower_triangle(&self) -> (Vec<usize>, Vec<f64>) {
+        let len = self.col_ptr()[self.ncols()];
+        let (mut rows, mut values) = (Vec::with_capacity(len), Vec::with_capacity(len));
         for j in 0..self.ncols() {
-            self.lower_of(j, |_, v| values.push(v));
+            self.lower_of(j, |i, v| {
+                rows.push(i);
+                values.push(v);
+            });
         }
-        values
+        (rows, values)
     }
 }
 
@@ -242,7 +266,7 @@ impl Permuted {
             .map(|t| {
                 let mut count = vec![0usize; n];
                 for j in bounds[t]..bounds[t + 1] {
-                    a.lower_of(j, |i, _| count[target(i, j).1] += 1);
+                    a.lower_rows_of(j, |i| count[target(i, j).1] += 1);
                 }
                 count
             })
@@ -315,7 +339,7 @@ pub(crate) fn factorize(
     a: Input<'_>,
     inverse: &[usize],
     values: &mut [f64],
-    panel_entries: usize,
+    panels: Panels,
 ) -> Result<(), usize> {
     assert_eq!(values.len(), symbolic.len_val());
     let a = Permuted::new(&a, inverse);
@@ -325,7 +349,7 @@ pub(crate) fn factorize(
         a: &a,
         values: Shared(values.as_mut_ptr()),
         par: faer::get_global_parallelism(),
-        panel_entries,
+        panels,
     };
     // The subtrees of the plan in parallel, then the top: each top
     // supernode after its children there, siblings in parallel.
@@ -360,9 +384,8 @@ struct Work<'a> {
     /// finished descendants (the tree order makes the accesses disjoint).
     values: Shared<f64>,
     par: Par,
-    /// Entries of the largest update product computed at once
-    /// ([`PANEL_ENTRIES`]; smaller in tests).
-    panel_entries: usize,
+    /// The split of large updates ([`Panels::DEFAULT`]; finer in tests).
+    panels: Panels,
 }
 
 /// Reused buffers of one thread.
@@ -473,7 +496,7 @@ impl Work<'_> {
             }));
             // By panels of `s`'s columns, so that the buffers stay small
             // for the large separators' updates (one panel for most).
-            let width = panel_width(rows.len(), mid, self.panel_entries);
+            let width = self.panels.width(rows.len(), mid);
             for c0 in (0..mid).step_by(width) {
                 let w = width.min(mid - c0);
                 self.update_panel(&mut ls, below, c0, w, buffers, par);
@@ -594,24 +617,35 @@ impl Work<'_> {
     }
 }
 
-/// Columns per panel of an update of `rows x mid`: all of them up to
-/// `entries` entries in the product, else panels of that many (at least
-/// `MIN_PANEL` columns).
-fn panel_width(rows: usize, mid: usize, entries: usize) -> usize {
-    if rows * mid <= entries {
-        mid.max(1)
-    } else {
-        (entries / rows.max(1)).max(MIN_PANEL)
-    }
+/// How a descendant's update is split into panels of the supernode's
+/// columns.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Panels {
+    /// Entries of the largest update product a thread computes at once.
+    pub(crate) entries: usize,
+    /// The narrowest panel of a split update (gemm's efficiency).
+    pub(crate) min_width: usize,
 }
 
-/// The narrowest panel of a split update.
-const MIN_PANEL: usize = if cfg!(test) { 1 } else { 64 };
+impl Panels {
+    /// Products of at most 32 MiB: at 1e6 DOFs of a solid the top
+    /// separators' updates took about 2 GB of buffers in one piece.
+    pub(crate) const DEFAULT: Panels = Panels {
+        entries: 1 << 22,
+        min_width: 64,
+    };
 
-/// Entries of the largest update product a thread computes at once (32
-/// MiB): at 1e6 DOFs of a solid the top separators' updates took about
-/// 2 GB of buffers in one piece.
-pub(crate) const PANEL_ENTRIES: usize = 1 << 22;
+    /// Columns per panel of an update of `rows x mid`: all of them up to
+    /// `entries` entries in the product, else panels of that many (at
+    /// least `min_width` columns).
+    fn width(self, rows: usize, mid: usize) -> usize {
+        if rows * mid <= self.entries {
+            mid.max(1)
+        } else {
+            (self.entries / rows.max(1)).max(self.min_width).max(1)
+        }
+    }
+}
 
 /// Columns of a descendant's update from which its square on the
 /// supernode's own columns is computed as a lower triangle only.
@@ -719,8 +753,12 @@ mod tests {
             // round-off.
             for entries in [1, 40, 300, 12_000] {
                 let mut panels = Vec::new();
+                let split = crate::numeric::Panels {
+                    entries,
+                    min_width: 1,
+                };
                 symbolic
-                    .factorize_in_panels(m.as_ref(), &mut panels, entries)
+                    .factorize_in_panels(m.as_ref(), &mut panels, split)
                     .unwrap();
                 let diff = panels
                     .iter()

@@ -165,11 +165,10 @@ impl Supernodes {
     pub fn flops(&self) -> f64 {
         (0..self.n_supernodes())
             .map(|s| {
-                let w = self.begin[s + 1] - self.begin[s];
-                let p = self.row_ptr[s + 1] - self.row_ptr[s];
-                (0..w)
-                    .map(|k| ((w - 1 - k + p) as f64).powi(2))
-                    .sum::<f64>()
+                supernode_flops(
+                    self.begin[s + 1] - self.begin[s],
+                    self.row_ptr[s + 1] - self.row_ptr[s],
+                )
             })
             .sum()
     }
@@ -542,6 +541,14 @@ impl Graph {
     fn of(&self, k: usize) -> &[u32] {
         &self.adj[self.ptr[k]..self.ptr[k + 1]]
     }
+}
+
+/// [`Supernodes::flops`] of one supernode of `width` columns and `pattern`
+/// rows below its diagonal block.
+pub(crate) fn supernode_flops(width: usize, pattern: usize) -> f64 {
+    (0..width)
+        .map(|k| ((width - 1 - k + pattern) as f64).powi(2))
+        .sum()
 }
 
 /// The supernodes of the ranges of groups `start[s]..start[s + 1]`: the
