@@ -40,6 +40,13 @@ struct Cli {
     /// Lanczos steps, solves) with its time on stderr.
     #[arg(long, short, global = true)]
     verbose: bool,
+    /// Refuse a sparse factorisation whose factor alone would take this
+    /// process beyond this many GiB (2^30 bytes) of resident memory,
+    /// before any of it is stored (the solver's other arrays come on top).
+    /// The machine's available memory and the cgroup's limit are always
+    /// checked this way.
+    #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
+    max_memory: Option<u64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -180,6 +187,14 @@ fn parse_format(s: &str) -> Result<export::Format, String> {
     s.parse()
 }
 
+/// A positive number of GiB, in bytes.
+fn parse_gib(s: &str) -> Result<u64, String> {
+    match s.parse::<f64>() {
+        Ok(g) if g.is_finite() && g > 0.0 => Ok((g * (1u64 << 30) as f64) as u64),
+        _ => Err(format!("'{s}' is not a positive number of GiB")),
+    }
+}
+
 fn parse_method(s: &str) -> Result<Method, String> {
     Method::parse(s).ok_or_else(|| {
         let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
@@ -303,6 +318,7 @@ fn main() -> ExitCode {
     let start = std::time::Instant::now();
     let cli = Cli::parse();
     install_progress(cli.verbose, start);
+    flexbody::linalg::memory::set_limit(cli.max_memory);
     let result = run(cli);
     flexbody::linalg::progress::set_global(None);
     match result {

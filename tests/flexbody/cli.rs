@@ -361,3 +361,56 @@ fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("--fmax must be a positive frequency"));
 }
+
+#[test]
+fn a_factor_beyond_max_memory_is_refused_before_factorising() {
+    // The solid side beam (the sparse solver). Under a budget of 1 MiB the
+    // process already holds more than that: the factor is refused with its
+    // size before any storage is taken, and no body is written.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = model.to_str().unwrap();
+    fails_with(
+        &["--max-memory", "0.001", "modes", model, "--count", "10"],
+        &[
+            "the LDL^T factor of",
+            "entries of L) needs",
+            "are left (--max-memory 1.0 MiB with",
+            "coarser mesh",
+        ],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("body.json");
+    let out = out.to_str().unwrap();
+    fails_with(
+        &[
+            "reduce",
+            model,
+            "--method",
+            "free-residual",
+            "--modes",
+            "6",
+            "--out",
+            out,
+            "--max-memory",
+            "0.001",
+        ],
+        &["entries of L) needs", "--max-memory 1.0 MiB"],
+    );
+    assert!(!Path::new(out).exists());
+    // A budget with room changes nothing; a budget must be positive.
+    let o = flexbody(&[
+        "--max-memory",
+        "64",
+        "modes",
+        model,
+        "--count",
+        "10",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    fails_with(
+        &["--max-memory", "0", "modes", model],
+        &["'0' is not a positive number of GiB"],
+    );
+}

@@ -304,8 +304,11 @@ impl SymbolicLdlt {
         panels: Panels,
     ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: storage is taken
-        // as it is, only fitted to the factor's length.
-        crate::memory::fit(values, s.supernodes.len_val());
+        // as it is, only fitted to the factor's length. What it lacks must
+        // fit in memory (the storage it replaces is freed first).
+        let len = s.supernodes.len_val();
+        crate::memory::ensure_factor_room(s.supernodes.nrows(), len, values.len())?;
+        crate::memory::fit(values, len);
         crate::numeric::factorize(
             &s.supernodes,
             &s.plan,

@@ -51,6 +51,14 @@ pub enum LinalgError {
     /// Dimensions of the operands do not agree.
     #[error("dimension mismatch: {0}")]
     Dimension(String),
+    /// A factor (or other large array) would not fit in the memory left.
+    #[error("{what} needs {needed} more memory, but only {room} are left ({bound}): use a machine with more memory or a coarser mesh")]
+    OutOfMemory {
+        what: String,
+        needed: String,
+        room: String,
+        bound: String,
+    },
     /// faer could not complete an operation (out of memory, index overflow).
     #[error("linear algebra failure: {0}")]
     Faer(String),

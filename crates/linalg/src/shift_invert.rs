@@ -37,12 +37,13 @@ pub struct ShiftedPencil {
     spare: Spare,
 }
 
-/// Storage for a factor, taken once.
+/// Storage for a factor, taken once, and how many of its values are
+/// resident (touched).
 #[derive(Debug, Default)]
-struct Spare(std::sync::Mutex<Vec<f64>>);
+struct Spare(std::sync::Mutex<(Vec<f64>, usize)>);
 
 impl Spare {
-    fn take(&self) -> Vec<f64> {
+    fn take(&self) -> (Vec<f64>, usize) {
         std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
     }
 }
@@ -342,10 +343,16 @@ impl ShiftedPencil {
         values: Vec<f64>,
     ) -> Result<ShiftedFactor, LinalgError> {
         // No storage given: the one touched during the analysis, if unused.
-        let mut values = match values.capacity() {
+        let (mut values, resident) = match values.capacity() {
             0 => self.spare.take(),
-            _ => values,
+            _ => {
+                let len = values.len();
+                (values, len)
+            }
         };
+        // What the factor lacks must fit: refused now with its size rather
+        // than killed for memory while factorising.
+        crate::memory::ensure_factor_room(self.dim(), self.factor_len(), resident)?;
         let diagonal = self.shifted_diagonal(sigma, fixed);
         let input = Input::Shifted {
             pattern: &self.pattern,
