@@ -223,6 +223,11 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
         Stage::Factorization { shift } => {
             format!("factorising K - sigma M, sigma = {shift:.3e}")
         }
+        Stage::Factoring { done, flops } => format!(
+            "factorising: {:.0} % of {:.1} GFlop",
+            100.0 * done,
+            flops * 1e-9
+        ),
         Stage::Factorized { seconds, .. } => format!("factorised ({seconds:.1} s)"),
         Stage::Iteration {
             step,
@@ -257,29 +262,85 @@ fn describe(stage: &flexbody::linalg::progress::Stage) -> String {
     }
 }
 
+/// The running factorisation, for the percent and the time left of its
+/// `Factoring` reports: "factorising K - sigma M, ...: 40 %, about 150 s
+/// left".
+#[derive(Default)]
+struct FactorClock(std::sync::Mutex<Option<Factorizing>>);
+
+struct Factorizing {
+    start: std::time::Instant,
+    what: String,
+    /// Tenths reported so far (the `--verbose` log's steps).
+    tenths: u64,
+}
+
+impl FactorClock {
+    /// The line of `stage`, and for a `Factoring` report whether it starts
+    /// a new tenth of the work.
+    fn line(&self, stage: &flexbody::linalg::progress::Stage) -> (String, bool) {
+        use flexbody::linalg::progress::Stage;
+        let mut running = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match stage {
+            Stage::Factorization { .. } => {
+                let what = describe(stage);
+                *running = Some(Factorizing {
+                    start: std::time::Instant::now(),
+                    what: what.clone(),
+                    tenths: 0,
+                });
+                (what, false)
+            }
+            Stage::Factoring { done, .. } => match running.as_mut() {
+                Some(f) => {
+                    let seconds = f.start.elapsed().as_secs_f64();
+                    let left = seconds * (1.0 - done) / done.max(1e-6);
+                    let tenths = (done * 10.0).floor() as u64;
+                    let new_tenth = tenths > f.tenths;
+                    f.tenths = f.tenths.max(tenths);
+                    let line = format!("{}: {:.0} %, about {left:.0} s left", f.what, 100.0 * done);
+                    (line, new_tenth)
+                }
+                None => (describe(stage), false),
+            },
+            Stage::Factorized { .. } => {
+                *running = None;
+                (describe(stage), false)
+            }
+            _ => (describe(stage), false),
+        }
+    }
+}
+
 /// Progress of long linear-algebra work (ordering, factorisation, Lanczos
 /// iterations, solves) as a spinner on a terminal; nothing in pipes.
-struct Spinner(indicatif::ProgressBar);
+struct Spinner(indicatif::ProgressBar, FactorClock);
 
 impl flexbody::linalg::progress::Progress for Spinner {
     fn report(&self, stage: &flexbody::linalg::progress::Stage) {
-        self.0.set_message(describe(stage));
+        self.0.set_message(self.1.line(stage).0);
         self.0.tick();
     }
 }
 
 /// `--verbose`: every stage on its own stderr line, with the seconds since
 /// the program started and the resident memory (in pipes too, for logs and
-/// profiling).
-struct StageLog(std::time::Instant);
+/// profiling); a factorisation of a TFlop or more also at every tenth.
+struct StageLog(std::time::Instant, FactorClock);
 
 impl flexbody::linalg::progress::Progress for StageLog {
     fn report(&self, stage: &flexbody::linalg::progress::Stage) {
+        use flexbody::linalg::progress::Stage;
+        let (line, new_tenth) = self.1.line(stage);
+        if let Stage::Factoring { flops, .. } = stage {
+            if !new_tenth || *flops < 1e12 {
+                return;
+            }
+        }
         eprintln!(
-            "[{:8.2} s {}] {}",
+            "[{:8.2} s {}] {line}",
             self.0.elapsed().as_secs_f64(),
             resident_memory(),
-            describe(stage)
         );
     }
 }
@@ -304,12 +365,18 @@ fn resident_memory() -> String {
 fn install_progress(verbose: bool, start: std::time::Instant) {
     use std::io::IsTerminal;
     if verbose {
-        flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(StageLog(start))));
+        flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(StageLog(
+            start,
+            FactorClock::default(),
+        ))));
     } else if std::io::stderr().is_terminal() {
         let bar =
             indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
         bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(Spinner(bar))));
+        flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(Spinner(
+            bar,
+            FactorClock::default(),
+        ))));
     }
 }
 

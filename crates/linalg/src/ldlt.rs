@@ -262,7 +262,8 @@ impl SymbolicLdlt {
     ) -> Result<(), LinalgError> {
         match &*self.inner {
             Analysis::Supernodal(s) => {
-                self.factorize_supernodal(s, Input::Faer(a), values, Panels::DEFAULT)
+                let report = reported_globally(s);
+                self.factorize_supernodal(s, Input::Faer(a), values, Panels::DEFAULT, &report)
             }
             Analysis::Simplicial(sym) => self.factorize_simplicial(sym, a, values),
         }
@@ -278,7 +279,10 @@ impl SymbolicLdlt {
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => self.factorize_supernodal(s, input, values, Panels::DEFAULT),
+            Analysis::Supernodal(s) => {
+                let report = reported_globally(s);
+                self.factorize_supernodal(s, input, values, Panels::DEFAULT, &report)
+            }
             Analysis::Simplicial(sym) => {
                 let n = input.ncols();
                 let col_ptr = input.col_ptr();
@@ -295,13 +299,15 @@ impl SymbolicLdlt {
     }
 
     /// Our parallel numeric factorisation of a supernodal analysis, large
-    /// updates split as `panels` says.
+    /// updates split as `panels` says, its progress to `report` (the
+    /// fraction done, at each percent).
     fn factorize_supernodal(
         &self,
         s: &Supernodal,
         a: Input<'_>,
         values: &mut Vec<f64>,
         panels: Panels,
+        report: &(dyn Fn(f64) + Sync),
     ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: storage is taken
         // as it is, only fitted to the factor's length. What it lacks must
@@ -317,6 +323,7 @@ impl SymbolicLdlt {
             &s.inverse,
             values,
             panels,
+            report,
         )
         .map_err(|index| self.zero_pivot(index))
     }
@@ -329,9 +336,12 @@ impl SymbolicLdlt {
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
         panels: Panels,
+        report: &(dyn Fn(f64) + Sync),
     ) -> Result<(), LinalgError> {
         match &*self.inner {
-            Analysis::Supernodal(s) => self.factorize_supernodal(s, Input::Faer(a), values, panels),
+            Analysis::Supernodal(s) => {
+                self.factorize_supernodal(s, Input::Faer(a), values, panels, report)
+            }
             Analysis::Simplicial(_) => Err(LinalgError::Dimension("a simplicial analysis".into())),
         }
     }
@@ -441,6 +451,14 @@ pub(crate) fn faer_analysis(
     };
     factorize_symbolic_cholesky(pattern, Side::Lower, ordering, Default::default())
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))
+}
+
+/// The `Factoring` reports of a supernodal factorisation, to the
+/// process-wide [`crate::progress::global`] hook.
+fn reported_globally(s: &Supernodal) -> impl Fn(f64) + Sync {
+    let hook = crate::progress::global();
+    let flops = s.supernodes.flops();
+    move |done| hook.report(&Stage::Factoring { done, flops })
 }
 
 /// Counts of negative, zero and positive pivots: by Sylvester's law of inertia

@@ -34,6 +34,7 @@ use faer::linalg::matmul::matmul;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 
 /// Which descendants update which supernode, and the tree of the plan's
 /// top; computed once per analysis.
@@ -47,6 +48,11 @@ pub(crate) struct UpdatePlan {
     top_roots: Vec<usize>,
     /// `top_children[s]`: the children of `s` in the top.
     top_children: Vec<Vec<usize>>,
+    /// `work[s]`: multiply-adds of the step of `s` (its descendants'
+    /// updates and its own blocks), and their sum: the factorisation's
+    /// progress as its supernodes finish.
+    work: Vec<f64>,
+    total_work: f64,
 }
 
 impl UpdatePlan {
@@ -83,12 +89,38 @@ impl UpdatePlan {
         let ptr = count.clone();
         let mut next = count;
         let mut descendants = vec![0u32; ptr[ns]];
+        // A supernode's own blocks: LDL^T of the diagonal block, then the
+        // triangular solve of the rows below.
+        let mut work: Vec<f64> = (0..ns)
+            .map(|s| {
+                let (w, below) = (
+                    (end[s] - begin[s]) as f64,
+                    symbolic.supernode(s).pattern().len() as f64,
+                );
+                w * w * w / 6.0 + w * w * below / 2.0
+            })
+            .collect();
         for d in 0..ns {
+            let pattern = symbolic.supernode(d).pattern();
+            let width = (end[d] - begin[d]) as f64;
+            let mut first = 0;
             for s in targets(d) {
-                descendants[next[s as usize]] = d as u32;
-                next[s as usize] += 1;
+                let s = s as usize;
+                descendants[next[s]] = d as u32;
+                next[s] += 1;
+                // The update of d on s: rows from s's first column on, the
+                // square of s's own columns as a lower triangle.
+                while pattern[first] < begin[s] {
+                    first += 1;
+                }
+                let mid = pattern[first..].partition_point(|&r| r < end[s]) as f64;
+                let rows = (pattern.len() - first) as f64;
+                work[s] += width * (mid * (mid + 1.0) / 2.0 + (rows - mid) * mid);
             }
         }
+        // Whole multiply-adds, so that the last supernode makes 100 %.
+        work.iter_mut().for_each(|w| *w = w.floor());
+        let total_work = work.iter().sum();
         let mut in_top = vec![false; ns];
         for &s in &plan.top {
             in_top[s] = true;
@@ -106,6 +138,8 @@ impl UpdatePlan {
             descendants,
             top_roots,
             top_children,
+            work,
+            total_work,
         }
     }
 
@@ -332,6 +366,10 @@ impl<T> Shared<T> {
 /// new` the analysis' permutation) into `values`, faer's supernodal layout
 /// of `symbolic`. `Err(i)`: a pivot vanished, `i` as faer's
 /// factorisation reports it (elimination order).
+///
+/// `report` receives the fraction of the factorisation's work done, at
+/// each percent.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn factorize(
     symbolic: &Supernodes,
     plan: &SolvePlan,
@@ -340,6 +378,7 @@ pub(crate) fn factorize(
     inverse: &[usize],
     values: &mut [f64],
     panels: Panels,
+    report: &(dyn Fn(f64) + Sync),
 ) -> Result<(), usize> {
     assert_eq!(values.len(), symbolic.len_val());
     let a = Permuted::new(&a, inverse);
@@ -350,6 +389,10 @@ pub(crate) fn factorize(
         values: Shared(values.as_mut_ptr()),
         par: faer::get_global_parallelism(),
         panels,
+        tally: Tally {
+            done: AtomicU64::new(0),
+            report,
+        },
     };
     // The subtrees of the plan in parallel, then the top: each top
     // supernode after its children there, siblings in parallel.
@@ -386,6 +429,29 @@ struct Work<'a> {
     par: Par,
     /// The split of large updates ([`Panels::DEFAULT`]; finer in tests).
     panels: Panels,
+    tally: Tally<'a>,
+}
+
+/// The work of the finished supernodes ([`UpdatePlan`]'s `work`),
+/// reported at each percent of the whole.
+struct Tally<'a> {
+    /// Multiply-adds done, rounded per supernode.
+    done: AtomicU64,
+    report: &'a (dyn Fn(f64) + Sync),
+}
+
+impl Tally<'_> {
+    /// Supernode `s` is finished.
+    fn finished(&self, updates: &UpdatePlan, s: usize) {
+        let total = updates.total_work.max(1.0);
+        let work = updates.work[s] as u64;
+        let before = self.done.fetch_add(work, AtomicOrdering::Relaxed);
+        let after = before + work;
+        let percent = |done: u64| (100 * done as u128) / total as u128;
+        if percent(after) > percent(before) {
+            (self.report)(after as f64 / total);
+        }
+    }
 }
 
 /// Reused buffers of one thread.
@@ -541,6 +607,7 @@ impl Work<'_> {
                 bot[(i, j)] *= d;
             }
         }
+        self.tally.finished(self.updates, s);
         Ok(())
     }
 
@@ -758,7 +825,7 @@ mod tests {
                     min_width: 1,
                 };
                 symbolic
-                    .factorize_in_panels(m.as_ref(), &mut panels, split)
+                    .factorize_in_panels(m.as_ref(), &mut panels, split, &|_| {})
                     .unwrap();
                 let diff = panels
                     .iter()
@@ -780,5 +847,32 @@ mod tests {
                 assert_eq!(again, ours, "{threads} threads");
             }
         }
+    }
+
+    /// The progress of a factorisation: at most one report per percent of
+    /// its work, from whichever thread finishes a supernode, the last at
+    /// exactly 1.
+    #[test]
+    fn a_factorisation_reports_each_percent_of_its_work_once() {
+        let a = grid(24);
+        let symbolic =
+            SymbolicLdlt::analyze_pattern(a.symbolic(), Ordering::NestedDissection).unwrap();
+        let reports = std::sync::Mutex::new(Vec::new());
+        let mut values = Vec::new();
+        symbolic
+            .factorize_in_panels(
+                a.as_ref(),
+                &mut values,
+                crate::numeric::Panels::DEFAULT,
+                &|done| reports.lock().unwrap().push(done),
+            )
+            .unwrap();
+        let mut done = reports.into_inner().unwrap();
+        done.sort_by(f64::total_cmp);
+        assert_eq!(done.last(), Some(&1.0), "{done:?}");
+        assert!(done.len() >= 10, "{done:?}");
+        let percents: Vec<u64> = done.iter().map(|d| (d * 100.0).floor() as u64).collect();
+        assert!(percents.windows(2).all(|w| w[0] < w[1]), "{percents:?}");
+        assert!(done[0] > 0.0);
     }
 }

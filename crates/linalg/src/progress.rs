@@ -24,6 +24,10 @@ pub enum Stage {
     },
     /// Numeric `LDL^T` of `K - shift M` started.
     Factorization { shift: f64 },
+    /// A supernodal factorisation has done the fraction `done` of its
+    /// `flops` (reported at each percent, from the threads that work on
+    /// it).
+    Factoring { done: f64, flops: f64 },
     /// Numeric factorisation finished.
     Factorized { shift: f64, seconds: f64 },
     /// A Lanczos expansion step: `solves` right-hand sides so far,
@@ -61,7 +65,7 @@ pub enum Stage {
 }
 
 /// Receives [`Stage`]s. Implementations must be cheap: `report` is called
-/// once per Lanczos step.
+/// once per Lanczos step and per percent of a factorisation.
 pub trait Progress: Send + Sync {
     /// Called at each stage; the default ignores it.
     fn report(&self, stage: &Stage) {
