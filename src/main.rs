@@ -328,6 +328,25 @@ impl flexbody::linalg::progress::Progress for Spinner {
 /// profiling); a factorisation of a TFlop or more also at every tenth.
 struct StageLog(std::time::Instant, FactorClock);
 
+/// The program's start when `--verbose` logs, for [`log_step`].
+static VERBOSE_SINCE: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+
+/// A line of the `--verbose` log from the command itself (not the linear
+/// algebra), e.g. where a reduction ends and its output begins.
+fn log_step(line: &str) {
+    if let Some(start) = VERBOSE_SINCE.get() {
+        log_line(*start, line);
+    }
+}
+
+fn log_line(start: std::time::Instant, line: &str) {
+    eprintln!(
+        "[{:8.2} s {}] {line}",
+        start.elapsed().as_secs_f64(),
+        resident_memory(),
+    );
+}
+
 impl flexbody::linalg::progress::Progress for StageLog {
     fn report(&self, stage: &flexbody::linalg::progress::Stage) {
         use flexbody::linalg::progress::Stage;
@@ -337,11 +356,7 @@ impl flexbody::linalg::progress::Progress for StageLog {
                 return;
             }
         }
-        eprintln!(
-            "[{:8.2} s {}] {line}",
-            self.0.elapsed().as_secs_f64(),
-            resident_memory(),
-        );
+        log_line(self.0, &line);
     }
 }
 
@@ -365,6 +380,7 @@ fn resident_memory() -> String {
 fn install_progress(verbose: bool, start: std::time::Instant) {
     use std::io::IsTerminal;
     if verbose {
+        let _ = VERBOSE_SINCE.set(start);
         flexbody::linalg::progress::set_global(Some(std::sync::Arc::new(StageLog(
             start,
             FactorClock::default(),
@@ -611,6 +627,11 @@ fn run_reduce(
     }
     spec.orthonormalize = orthonormalize;
     let body = reduce(&c.sub, &spec)?;
+    log_step(&format!(
+        "reduced: r = {} (writing {})",
+        body.r(),
+        out.display()
+    ));
     let reduced_hz = body.frequencies_hz()?;
     let count = body.r().min(c.sub.len());
     let compare = match check {
@@ -649,6 +670,7 @@ fn run_reduce(
     } else {
         export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
     }
+    log_step(&format!("written: {}", out.display()));
     if let Some(path) = vtu {
         let model = c.model.as_ref().with_context(|| {
             format!(

@@ -414,3 +414,34 @@ fn a_factor_beyond_max_memory_is_refused_before_factorising() {
         &["'0' is not a positive number of GiB"],
     );
 }
+
+#[test]
+fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
+    // The solid side beam: ordering, factorisations and Lanczos steps of the
+    // sparse solver, then the reduced body's size before its output.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("body.json");
+    let o = flexbody(&[
+        "--verbose",
+        "reduce",
+        model.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "6",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let log = stderr(&o);
+    assert!(o.status.success(), "{log}");
+    let at = |needle: &str| {
+        log.find(needle)
+            .unwrap_or_else(|| panic!("'{needle}' not in: {log}"))
+    };
+    assert!(at("] ordering ") < at("] factorising K"));
+    assert!(at("] Sturm check: ") < at("] reduced: r = "));
+    assert!(at("] reduced: r = ") < at("] written: "));
+    assert!(out.exists());
+}
