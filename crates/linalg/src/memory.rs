@@ -208,6 +208,7 @@ fn cgroup_room(max: &str, current: &str, stat: &str, cache: &str) -> Option<u64>
 /// untouched (the allocator's zero pages). On this machine's VM the first
 /// touch of fresh memory costs about 1 s/GiB; the shift-invert pencil
 /// touches part of its first factor's storage while METIS orders.
+///
 /// Returns the storage and how many of its values were touched.
 pub(crate) fn touch_until(done: &AtomicBool, capacity: usize, touch: usize) -> (Vec<f64>, usize) {
     const STEP: usize = 1 << 18;
@@ -279,9 +280,12 @@ mod tests {
             cgroup_room("1000", "4000", "file_mapped 5\n", "file "),
             Some(0)
         );
-        // v1: "unlimited" is a huge number.
+        // v1: the hierarchy's page cache; "unlimited" is a huge limit that
+        // never binds, an unreadable one is none.
         let stat = "cache 7\nrss 2\ntotal_cache 100\ntotal_rss 300\n";
         assert_eq!(cgroup_room("1000", "400", stat, "total_cache "), Some(700));
+        let unlimited = cgroup_room("9223372036854771712", "400", stat, "total_cache ");
+        assert!(unlimited > Some(1 << 60));
         assert_eq!(cgroup_room("", "400", stat, "total_cache "), None);
     }
 

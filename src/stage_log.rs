@@ -1,0 +1,188 @@
+//! The command line's view of long linear-algebra work: a spinner on a
+//! terminal, a timed log of every stage with `--verbose`, nothing in pipes
+//! otherwise. A factorisation shows the percent of its work done and the
+//! time left.
+
+use flexbody::linalg::progress::{Progress, Stage};
+use std::sync::Arc;
+
+/// One line describing a stage of the linear algebra, for the spinner and
+/// the `--verbose` log.
+fn describe(stage: &Stage) -> String {
+    match stage {
+        Stage::Ordering { equations } => format!("ordering {equations} equations"),
+        Stage::Analyzed {
+            factor_len,
+            flops,
+            seconds,
+        } => format!(
+            "analysed: {factor_len} entries in L, {:.1} GFlop per factorisation ({seconds:.1} s)",
+            flops * 1e-9
+        ),
+        Stage::Factorization { shift } if *shift == 0.0 => "factorising K".to_string(),
+        Stage::Factorization { shift } => {
+            format!("factorising K - sigma M, sigma = {shift:.3e}")
+        }
+        Stage::Factoring { done, flops } => format!(
+            "factorising: {:.0} % of {:.1} GFlop",
+            100.0 * done,
+            flops * 1e-9
+        ),
+        Stage::Factorized { seconds, .. } => format!("factorised ({seconds:.1} s)"),
+        Stage::Iteration {
+            step,
+            solves,
+            converged,
+            wanted,
+            basis,
+        } => format!(
+            "Lanczos step {step}: {converged} of {wanted} modes converged \
+             ({solves} solves, basis {basis})"
+        ),
+        Stage::LanczosDone {
+            solves,
+            block_solves,
+            solve_seconds,
+            products,
+            mass_seconds,
+            seconds,
+        } => format!(
+            "Lanczos done ({seconds:.1} s): {solves} solves in {block_solves} sweeps \
+             ({solve_seconds:.1} s), {products} products with M ({mass_seconds:.1} s)"
+        ),
+        Stage::SturmCheck {
+            bound,
+            count,
+            found,
+        } => {
+            format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
+        }
+        Stage::Solves { columns } => format!("solving for {columns} right-hand sides"),
+        Stage::Done { seconds } => format!("eigenmodes done ({seconds:.1} s)"),
+    }
+}
+
+/// The running factorisation, for the percent and the time left of its
+/// `Factoring` reports: "factorising K - sigma M, ...: 40 %, about 150 s
+/// left".
+#[derive(Default)]
+struct FactorClock(std::sync::Mutex<Option<Factorizing>>);
+
+struct Factorizing {
+    start: std::time::Instant,
+    what: String,
+    /// Tenths reported so far (the `--verbose` log's steps).
+    tenths: u64,
+}
+
+impl FactorClock {
+    /// The line of `stage`, and for a `Factoring` report whether it starts
+    /// a new tenth of the work.
+    fn line(&self, stage: &Stage) -> (String, bool) {
+        let mut running = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match stage {
+            Stage::Factorization { .. } => {
+                let what = describe(stage);
+                *running = Some(Factorizing {
+                    start: std::time::Instant::now(),
+                    what: what.clone(),
+                    tenths: 0,
+                });
+                (what, false)
+            }
+            Stage::Factoring { done, .. } => match running.as_mut() {
+                Some(f) => {
+                    let seconds = f.start.elapsed().as_secs_f64();
+                    let left = seconds * (1.0 - done) / done.max(1e-6);
+                    let tenths = (done * 10.0).floor() as u64;
+                    let new_tenth = tenths > f.tenths;
+                    f.tenths = f.tenths.max(tenths);
+                    let line = format!("{}: {:.0} %, about {left:.0} s left", f.what, 100.0 * done);
+                    (line, new_tenth)
+                }
+                None => (describe(stage), false),
+            },
+            Stage::Factorized { .. } => {
+                *running = None;
+                (describe(stage), false)
+            }
+            _ => (describe(stage), false),
+        }
+    }
+}
+
+/// Progress of long linear-algebra work (ordering, factorisation, Lanczos
+/// iterations, solves) as a spinner on a terminal; nothing in pipes.
+struct Spinner(indicatif::ProgressBar, FactorClock);
+
+impl Progress for Spinner {
+    fn report(&self, stage: &Stage) {
+        self.0.set_message(self.1.line(stage).0);
+        self.0.tick();
+    }
+}
+
+/// `--verbose`: every stage on its own stderr line, with the seconds since
+/// the program started and the resident memory (in pipes too, for logs and
+/// profiling); a factorisation of a TFlop or more also at every tenth.
+struct StageLog(FactorClock);
+
+/// The program's start when `--verbose` logs, for [`step`].
+static VERBOSE_SINCE: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+
+/// A line of the `--verbose` log from the command itself (not the linear
+/// algebra), e.g. where a reduction ends and its output begins.
+pub fn step(line: &str) {
+    if let Some(start) = VERBOSE_SINCE.get() {
+        eprintln!(
+            "[{:8.2} s {}] {line}",
+            start.elapsed().as_secs_f64(),
+            resident_memory(),
+        );
+    }
+}
+
+impl Progress for StageLog {
+    fn report(&self, stage: &Stage) {
+        let (line, new_tenth) = self.0.line(stage);
+        if let Stage::Factoring { flops, .. } = stage {
+            if !new_tenth || *flops < 1e12 {
+                return;
+            }
+        }
+        step(&line);
+    }
+}
+
+/// Resident and peak memory of this process (Linux `/proc`), e.g.
+/// `1.21/2.05 GB`; empty where `/proc` is not there.
+fn resident_memory() -> String {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let gb = |key: &str| -> Option<f64> {
+        let line = status.lines().find(|l| l.starts_with(key))?;
+        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb / 1024.0 / 1024.0)
+    };
+    match (gb("VmRSS:"), gb("VmHWM:")) {
+        (Some(now), Some(peak)) => format!("{now:5.2}/{peak:5.2} GB"),
+        _ => String::new(),
+    }
+}
+
+/// Shows progress on a terminal (stderr) or, with `--verbose`, a log of
+/// stages; stays quiet otherwise.
+pub fn install(verbose: bool, start: std::time::Instant) {
+    use std::io::IsTerminal;
+    if verbose {
+        let _ = VERBOSE_SINCE.set(start);
+        flexbody::linalg::progress::set_global(Some(Arc::new(StageLog(FactorClock::default()))));
+    } else if std::io::stderr().is_terminal() {
+        let bar =
+            indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        flexbody::linalg::progress::set_global(Some(Arc::new(Spinner(
+            bar,
+            FactorClock::default(),
+        ))));
+    }
+}
