@@ -144,6 +144,12 @@ enum Command {
         model: PathBuf,
         #[command(flatten)]
         matrices: MatrixArgs,
+        /// Also order and analyse the sparse factor of K - sigma M as
+        /// `modes` and `reduce` do, and print its entries, its size in
+        /// memory, its flops per factorisation and the memory left: what a
+        /// large model's solve will take, before running it.
+        #[arg(long)]
+        factor: bool,
     },
     /// Natural frequencies of a model (free, or with its boundary conditions).
     Modes {
@@ -268,7 +274,11 @@ fn run(cli: Cli) -> Result<()> {
             };
             run_modes(&model, &matrices, band, json)
         }
-        Command::Info { model, matrices } => run_info(&model, &matrices),
+        Command::Info {
+            model,
+            matrices,
+            factor,
+        } => run_info(&model, &matrices, factor),
         Command::Inspect { body } => {
             say!("{}", export::read_any(&body)?.summary());
             Ok(())
@@ -558,7 +568,7 @@ fn run_modes(
     Ok(())
 }
 
-fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
+fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
     let start = std::time::Instant::now();
     let c = load(model, matrices)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -603,6 +613,36 @@ fn run_info(model: &Path, matrices: &MatrixArgs) -> Result<()> {
         c.timing.1,
         peak_memory()
     );
+    if factor {
+        use flexbody::linalg::{memory, ordering::Ordering, shift_invert::ShiftedPencil};
+        let start = std::time::Instant::now();
+        let (k, m) = (&c.sub.matrices.stiffness, &c.sub.matrices.mass);
+        let pencil = ShiftedPencil::analyze(k, m, Ordering::Auto)?;
+        let entries = pencil.factor_len();
+        let ordering = match pencil.ordering() {
+            Ordering::Amd => "AMD",
+            _ => "METIS nested dissection",
+        };
+        let flops = pencil.factor_flops();
+        let flops = if flops >= 1e9 {
+            format!("{:.1} GFlop", flops * 1e-9)
+        } else {
+            format!("{:.1} MFlop", flops * 1e-6)
+        };
+        say!(
+            "factor of K - sigma M ({ordering}): {entries} entries of L ({}), \
+             {flops} per factorisation; ordered and analysed in {:.3} s",
+            memory::bytes_text((entries * std::mem::size_of::<f64>()) as u64),
+            start.elapsed().as_secs_f64()
+        );
+        if let Some(room) = memory::room() {
+            say!(
+                "memory left: {} ({})",
+                memory::bytes_text(room.bytes),
+                room.bound
+            );
+        }
+    }
     Ok(())
 }
 

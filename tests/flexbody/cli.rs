@@ -445,3 +445,37 @@ fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
     assert!(at("] reduced: r = ") < at("] written: "));
     assert!(out.exists());
 }
+
+#[test]
+fn info_factor_gives_the_factor_that_modes_analyses() {
+    // `info --factor` orders and analyses K - sigma M as the solver does:
+    // the same entries of L as the `--verbose` log of `modes` reports.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = model.to_str().unwrap();
+    let o = flexbody(&["info", model, "--factor"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("factor of K - sigma M"))
+        .unwrap_or_else(|| panic!("no factor line in: {text}"));
+    let entries: usize = line
+        .split(": ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(line.contains("Flop per factorisation"), "{line}");
+    assert!(text.contains("memory left: "), "{text}");
+    let o = flexbody(&["--verbose", "modes", model, "--count", "8"]);
+    let log = stderr(&o);
+    assert!(o.status.success(), "{log}");
+    assert!(
+        log.contains(&format!("analysed: {entries} entries in L")),
+        "{entries} vs {log}"
+    );
+    // Without --factor, no analysis.
+    let o = flexbody(&["info", model]);
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("entries of L"));
+}

@@ -139,8 +139,8 @@ fn under_limit(limit: u64, resident: u64) -> Room {
         bytes: limit.saturating_sub(resident),
         bound: format!(
             "--max-memory {} with {} resident",
-            gib(limit),
-            gib(resident)
+            bytes_text(limit),
+            bytes_text(resident)
         ),
     }
 }
@@ -150,8 +150,8 @@ fn check_room(needed: u64, room: Option<Room>, what: &str) -> Result<(), LinalgE
     match room {
         Some(room) if needed > room.bytes => Err(LinalgError::OutOfMemory {
             what: what.to_string(),
-            needed: gib(needed),
-            room: gib(room.bytes),
+            needed: bytes_text(needed),
+            room: bytes_text(room.bytes),
             bound: room.bound,
         }),
         _ => Ok(()),
@@ -159,7 +159,7 @@ fn check_room(needed: u64, room: Option<Room>, what: &str) -> Result<(), LinalgE
 }
 
 /// Bytes for messages: `16.80 GiB`, or `12.3 MiB` below a GiB.
-fn gib(bytes: u64) -> String {
+pub fn bytes_text(bytes: u64) -> String {
     let b = bytes as f64;
     if bytes >= 1 << 30 {
         format!("{:.2} GiB", b / (1u64 << 30) as f64)

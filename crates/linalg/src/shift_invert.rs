@@ -227,6 +227,11 @@ impl ShiftedPencil {
         self.symbolic.factor_len()
     }
 
+    /// Floating-point operations of one numeric factorisation.
+    pub fn factor_flops(&self) -> f64 {
+        self.symbolic.factor_flops()
+    }
+
     /// The diagonal of `K - sigma M`, with 1 on a `fixed` equation where
     /// it is 0 (as [`Input::Shifted`] forms it).
     fn shifted_diagonal(&self, sigma: f64, fixed: Option<&[bool]>) -> Vec<f64> {
@@ -289,7 +294,7 @@ impl ShiftedPencil {
         let pencil = analyze()?;
         progress.report(&Stage::Analyzed {
             factor_len: pencil.factor_len(),
-            flops: pencil.symbolic.factor_flops(),
+            flops: pencil.factor_flops(),
             seconds: t.elapsed().as_secs_f64(),
         });
         Ok(pencil)
