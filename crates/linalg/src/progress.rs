@@ -25,8 +25,8 @@ pub enum Stage {
     /// Numeric `LDL^T` of `K - shift M` started.
     Factorization { shift: f64 },
     /// A supernodal factorisation has done the fraction `done` of its
-    /// `flops` (reported at each percent, from the threads that work on
-    /// it).
+    /// work, `flops` floating-point operations in all (reported at each
+    /// percent, from the threads that work on it).
     Factoring { done: f64, flops: f64 },
     /// Numeric factorisation finished.
     Factorized { shift: f64, seconds: f64 },
