@@ -138,7 +138,7 @@ enum Command {
         /// Reduced-body file or folder.
         body: PathBuf,
     },
-    /// Read and assemble a model; print its size, mass, and the time and memory it took.
+    /// Read and assemble a model; print its size, mass, and the time and memory it took (with --factor, the size of its sparse factor).
     Info {
         /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
         model: PathBuf,
