@@ -648,16 +648,9 @@ fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
 
 /// Peak resident memory of this process (Linux), or "unknown".
 fn peak_memory() -> String {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or("unknown".into(), |kb| {
-            format!("{:.3} GB", kb / 1024.0 / 1024.0)
-        })
+    flexbody::linalg::memory::process_memory().map_or("unknown".into(), |(_, peak)| {
+        format!("{:.3} GB", peak as f64 / (1u64 << 30) as f64)
+    })
 }
 
 /// The full FE model (the reference) or the reduced body.

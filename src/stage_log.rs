@@ -157,16 +157,10 @@ impl Progress for StageLog {
 /// Resident and peak memory of this process (Linux `/proc`), e.g.
 /// `1.21/2.05 GB`; empty where `/proc` is not there.
 fn resident_memory() -> String {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    let gb = |key: &str| -> Option<f64> {
-        let line = status.lines().find(|l| l.starts_with(key))?;
-        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-        Some(kb / 1024.0 / 1024.0)
-    };
-    match (gb("VmRSS:"), gb("VmHWM:")) {
-        (Some(now), Some(peak)) => format!("{now:5.2}/{peak:5.2} GB"),
-        _ => String::new(),
-    }
+    let gb = |bytes: u64| bytes as f64 / (1u64 << 30) as f64;
+    flexbody::linalg::memory::process_memory().map_or(String::new(), |(now, peak)| {
+        format!("{:5.2}/{:5.2} GB", gb(now), gb(peak))
+    })
 }
 
 /// Shows progress on a terminal (stderr) or, with `--verbose`, a log of

@@ -260,6 +260,7 @@ impl SymbolicLdlt {
         a: SparseColMatRef<'_, usize, f64>,
         values: &mut Vec<f64>,
     ) -> Result<(), LinalgError> {
+        self.ensure_room(values.len())?;
         match &*self.inner {
             Analysis::Supernodal(s) => {
                 let report = reported_globally(s);
@@ -272,12 +273,15 @@ impl SymbolicLdlt {
     /// [`Self::factorize_into`] for a lower triangle given as an
     /// [`Input`] (such as a shift-invert pencil's `K - sigma M`, formed as
     /// it is read): the supernodal factorisation reads it as it is; only a
-    /// small, simplicial one makes faer's matrix of it.
+    /// small, simplicial one makes faer's matrix of it. `resident` values
+    /// of `values` are in memory already (storage touched ahead).
     pub(crate) fn factorize_input_into(
         &self,
         input: Input<'_>,
         values: &mut Vec<f64>,
+        resident: usize,
     ) -> Result<(), LinalgError> {
+        self.ensure_room(resident)?;
         match &*self.inner {
             Analysis::Supernodal(s) => {
                 let report = reported_globally(s);
@@ -298,6 +302,13 @@ impl SymbolicLdlt {
         }
     }
 
+    /// What the factor lacks beyond `resident` values in storage must fit
+    /// in memory (the storage it replaces is freed first): refused before
+    /// factorising, with its size, rather than killed for memory meanwhile.
+    fn ensure_room(&self, resident: usize) -> Result<(), LinalgError> {
+        crate::memory::ensure_factor_room(self.dim(), self.factor_len(), resident)
+    }
+
     /// Our parallel numeric factorisation of a supernodal analysis, large
     /// updates split as `panels` says, its progress to `report` (the
     /// fraction done, at each percent).
@@ -310,11 +321,8 @@ impl SymbolicLdlt {
         report: &(dyn Fn(f64) + Sync),
     ) -> Result<(), LinalgError> {
         // Every block is cleared where it is factorised: storage is taken
-        // as it is, only fitted to the factor's length. What it lacks must
-        // fit in memory (the storage it replaces is freed first).
-        let len = s.supernodes.len_val();
-        crate::memory::ensure_factor_room(s.supernodes.nrows(), len, values.len())?;
-        crate::memory::fit(values, len);
+        // as it is, only fitted to the factor's length.
+        crate::memory::fit(values, s.supernodes.len_val());
         crate::numeric::factorize(
             &s.supernodes,
             &s.plan,

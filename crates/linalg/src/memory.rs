@@ -101,14 +101,18 @@ pub fn room() -> Option<Room> {
     }
     let limit = LIMIT.load(AtomicOrdering::Relaxed);
     if limit > 0 {
-        let resident = read("/proc/self/status")
-            .as_deref()
-            .and_then(|s| kib_field(s, "VmRSS:"))
-            .unwrap_or(0);
+        let resident = process_memory().map_or(0, |(now, _)| now);
         let Room { bytes, bound } = under_limit(limit, resident);
         take(bytes, bound);
     }
     best
+}
+
+/// Resident and peak resident memory of this process in bytes (`VmRSS`,
+/// `VmHWM` of Linux's `/proc/self/status`); `None` elsewhere.
+pub fn process_memory() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    Some((kib_field(&status, "VmRSS:")?, kib_field(&status, "VmHWM:")?))
 }
 
 /// `needed` more bytes for `what`, or an error when [`room`] is smaller.

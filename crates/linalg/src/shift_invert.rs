@@ -355,9 +355,6 @@ impl ShiftedPencil {
                 (values, len)
             }
         };
-        // What the factor lacks must fit: refused now with its size rather
-        // than killed for memory while factorising.
-        crate::memory::ensure_factor_room(self.dim(), self.factor_len(), resident)?;
         let diagonal = self.shifted_diagonal(sigma, fixed);
         let input = Input::Shifted {
             pattern: &self.pattern,
@@ -367,7 +364,9 @@ impl ShiftedPencil {
             sigma,
             fixed,
         };
-        let result = self.symbolic.factorize_input_into(input, &mut values);
+        let result = self
+            .symbolic
+            .factorize_input_into(input, &mut values, resident);
         if let Err(LinalgError::Singular { index, .. }) = result {
             return Err(LinalgError::Singular {
                 index: self.symbolic.forward()[index],
