@@ -5,7 +5,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use flexbody::reduce::{reduce, Method, Reduction};
+use flexbody::reduce::{reduce, reduce_taking, Method, Reduction};
 use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -430,7 +430,7 @@ fn run_reduce(
     orthonormalize: bool,
     (json, check): (bool, &str),
 ) -> Result<()> {
-    let c = load(model, matrices)?;
+    let mut c = load(model, matrices)?;
     // The assembly's work arrays go back before the factorisations.
     flexbody::linalg::memory::release_free_memory();
     let mut spec = Reduction::new(method, modes, c.interface(interface)?);
@@ -446,7 +446,18 @@ fn run_reduce(
         }
     }
     spec.orthonormalize = orthonormalize;
-    let body = reduce(&c.sub, &spec)?;
+    let compare = match check {
+        "always" => true,
+        "never" => false,
+        _ => c.sub.len() <= CHECK_UP_TO,
+    };
+    // K and M are needed after the reduction only by the comparison and
+    // the SID's invariants; otherwise the solver may drop them.
+    let body = if compare || format == export::Format::Sid {
+        reduce(&c.sub, &spec)?
+    } else {
+        reduce_taking(&mut c.sub, &spec)?
+    };
     stage_log::step(&format!(
         "reduced: r = {} (writing {})",
         body.r(),
@@ -454,11 +465,6 @@ fn run_reduce(
     ));
     let reduced_hz = body.frequencies_hz()?;
     let count = body.r().min(c.sub.len());
-    let compare = match check {
-        "always" => true,
-        "never" => false,
-        _ => c.sub.len() <= CHECK_UP_TO,
-    };
     let full_hz = if compare {
         Some(
             red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?

@@ -104,7 +104,8 @@ fn reduce_writes_the_body_and_compares_frequencies() {
     }
     let body = flexbody::export::read_json(&out).unwrap();
     assert_eq!(body.r(), 7);
-    // Without the check, the full model is not solved again.
+    // Without the check, the full model is not solved again, and K and M
+    // are handed over to the reduction (`reduce_taking`): the same body.
     let o = flexbody(&[
         "reduce",
         model.to_str().unwrap(),

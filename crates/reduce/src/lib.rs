@@ -13,10 +13,11 @@ pub mod body;
 pub mod error;
 pub mod method;
 pub mod modes;
+mod products;
 
 pub use body::{ModeKind, ReducedBody};
 pub use error::ReduceError;
-pub use method::{reduce, ForceGroup, GroundSpring, Method, Reduction};
+pub use method::{reduce, reduce_taking, ForceGroup, GroundSpring, Method, Reduction};
 
 #[cfg(test)]
 mod tests;

@@ -14,6 +14,7 @@
 //! [`flexbody_linalg::progress::global`] hook.
 
 use super::{complement, expand};
+use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_linalg::eigen::generalized_symmetric;
@@ -108,21 +109,34 @@ pub fn eigenmodes_owned(
     mass: SparseMat,
     band: Band,
 ) -> Result<(EigenModes, Vec<f64>), ReduceError> {
-    let n = stiffness.nrows();
+    let (modes, residuals, _) =
+        eigenmodes_from(Matrices::Given(Box::new((stiffness, mass))), band)?;
+    Ok((modes, residuals))
+}
+
+/// [`eigenmodes_owned`] on `K` and `M` lent or handed over, with the
+/// products a reduction needs afterwards (from the solver's compact copy
+/// on the sparse path).
+pub(crate) fn eigenmodes_from(
+    matrices: Matrices<'_>,
+    band: Band,
+) -> Result<(EigenModes, Vec<f64>, Products<'_>), ReduceError> {
+    let n = matrices.k().nrows();
     let dense = match band {
         Band::Lowest(count) => dense_for(n, count),
         Band::BelowHz(_) => n < SPARSE_FROM,
     };
     if dense || band == Band::Lowest(0) {
-        let modes = eigenmodes_in(&stiffness, &mass, band)?;
+        let (stiffness, mass) = (matrices.k(), matrices.m());
+        let modes = eigenmodes_in(stiffness, mass, band)?;
         let residuals = flexbody_linalg::lanczos::residuals(
-            &stiffness,
-            &mass,
+            stiffness,
+            mass,
             &modes.values,
             modes.vectors.as_ref(),
-            &sparse::diagonal(&stiffness),
+            &sparse::diagonal(stiffness),
         );
-        return Ok((modes, residuals));
+        return Ok((modes, residuals, Products::Full(matrices)));
     }
     if let Band::Lowest(count) = band {
         if count > n {
@@ -133,10 +147,11 @@ pub fn eigenmodes_owned(
         }
     }
     let progress = flexbody_linalg::progress::global();
-    let pencil = ShiftedPencil::analyze_reporting(&stiffness, &mass, Ordering::Auto, &*progress)?;
-    drop((stiffness, mass));
+    let pencil =
+        ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*progress)?;
+    drop(matrices);
     let found = lanczos_band(&pencil, None, band, None, None)?;
-    Ok((found.pairs, found.residuals))
+    Ok((found.pairs, found.residuals, Products::Pencil(pencil)))
 }
 
 /// Whether [`EigenSolver::Auto`] takes the dense solver for `count` modes

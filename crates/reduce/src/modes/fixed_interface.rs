@@ -11,13 +11,14 @@
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
 use super::eigen::{eigenmodes_on, fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
 use super::{complement, expand, EigenModes, RigidModes};
+use crate::products::{Bordered, Matrices, Products};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::ShiftedPencil;
-use flexbody_linalg::{sparse, LinalgError, SparseMat};
+use flexbody_linalg::{LinalgError, SparseMat};
 
 /// Constraint modes (m x s) and the fixed-interface eigenmodes of `band`
 /// (zero at the `boundary` equations).
@@ -29,23 +30,50 @@ pub fn craig_bampton_modes(
     rigid: &RigidModes,
     band: Band,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
-    let n = stiffness.nrows();
+    let matrices = Matrices::Lent(stiffness, mass);
+    let (psi, phi, _) = craig_bampton_modes_from(matrices, boundary, dof_map, rigid, band)?;
+    Ok((psi, phi))
+}
+
+/// [`craig_bampton_modes`] on `K` and `M` lent or handed over (dropped
+/// once the pencil of the interior and the interface's coupling blocks
+/// are copied), with the products the reduction needs afterwards.
+pub(crate) fn craig_bampton_modes_from<'a>(
+    matrices: Matrices<'a>,
+    boundary: &[usize],
+    dof_map: &DofMap,
+    rigid: &RigidModes,
+    band: Band,
+) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
+    let n = matrices.k().nrows();
     let interior = complement(boundary, n);
     if interior.len() < SPARSE_FROM || band == Band::Lowest(0) {
+        let (stiffness, mass) = (matrices.k(), matrices.m());
         return Ok((
             constraint_modes(stiffness, boundary, dof_map, rigid)?,
             fixed_interface_eigenmodes_in(stiffness, mass, boundary, band)?,
+            Products::Full(matrices),
         ));
     }
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let hook = progress::global();
     let pencil = ShiftedPencil::analyze_within_reporting(
-        stiffness,
-        mass,
+        matrices.k(),
+        matrices.m(),
         &interior,
         Ordering::Auto,
         &*hook,
     )?;
+    let bordered = Bordered::new(
+        pencil,
+        matrices.k(),
+        matrices.m(),
+        interior,
+        boundary.to_vec(),
+    );
+    drop(matrices);
+    let pencil = &bordered.pencil;
+    let interior = &bordered.interior;
     let k_factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Mechanism {
             interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
@@ -53,17 +81,16 @@ pub fn craig_bampton_modes(
         },
         other => other.into(),
     })?;
-    let k_nh = sparse::submatrix(stiffness, &interior, boundary);
-    let mut u_n = -k_nh.to_dense();
+    let mut u_n = -bordered.k_nb.to_dense();
     hook.report(&Stage::Solves {
         columns: boundary.len(),
     });
     k_factor.solve_in_place(u_n.as_mut());
-    let psi = constraint_columns(n, boundary, &interior, &u_n);
-    let found = eigenmodes_on(&pencil, Some(k_factor), band, Some(0.0))?;
+    let psi = constraint_columns(n, boundary, interior, &u_n);
+    let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0))?;
     let phi = EigenModes {
-        vectors: expand(&found.vectors, &interior, n),
+        vectors: expand(&found.vectors, interior, n),
         values: found.values,
     };
-    Ok((psi, phi))
+    Ok((psi, phi, Products::Bordered(Box::new(bordered))))
 }

@@ -11,11 +11,14 @@
 //! deflated ([`flexbody_linalg::lanczos::Held`]). Only the Sturm check
 //! factorises once more. Small models take the separate dense path.
 
-use super::eigen::{eigenmodes, eigenmodes_in, free_eigenmodes_on, Band, SPARSE_FROM};
+use super::eigen::{
+    eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band, SPARSE_FROM,
+};
 use super::inertia_relief::{
     check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
 };
 use super::{EigenModes, RigidModes};
+use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
@@ -36,27 +39,47 @@ pub fn inertia_relief_and_free_modes(
     dof_map: &DofMap,
     band: Band,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
-    let (n, nr) = (stiffness.nrows(), rigid.count());
+    let matrices = Matrices::Lent(stiffness, mass);
+    let (t_a, all, _) =
+        inertia_relief_and_free_modes_from(matrices, rigid, loads, support, dof_map, band)?;
+    Ok((t_a, all))
+}
+
+/// [`inertia_relief_and_free_modes`] on `K` and `M` lent or handed over
+/// (dropped once the pencil holds its copy), with the products the
+/// reduction needs afterwards.
+pub(crate) fn inertia_relief_and_free_modes_from<'a>(
+    matrices: Matrices<'a>,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+    support: &[usize],
+    dof_map: &DofMap,
+    band: Band,
+) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
+    let (n, nr) = (matrices.k().nrows(), rigid.count());
     let at_least = |band: Band| match band {
         Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
         within => within,
     };
-    let enough = |all: EigenModes| -> Result<EigenModes, ReduceError> {
-        if all.values.len() > nr || all.values.len() >= n {
-            Ok(all)
-        } else {
-            // A band without elastic modes: the gap check needs one.
-            Ok(eigenmodes(stiffness, mass, (nr + 1).min(n))?.slice(0, nr))
-        }
-    };
     if n < SPARSE_FROM || nr == 0 {
+        let (stiffness, mass) = (matrices.k(), matrices.m());
         let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)?;
-        let all = enough(eigenmodes_in(stiffness, mass, at_least(band))?)?;
-        return Ok((t_a, all));
+        let mut all = eigenmodes_in(stiffness, mass, at_least(band))?;
+        if all.values.len() <= nr && all.values.len() < n {
+            // A band without elastic modes: the gap check needs one.
+            all = eigenmodes(stiffness, mass, (nr + 1).min(n))?.slice(0, nr);
+        }
+        return Ok((t_a, all, Products::Full(matrices)));
     }
     check_support(rigid, support, dof_map)?;
     let hook = progress::global();
-    let pencil = ShiftedPencil::analyze_reporting(stiffness, mass, Ordering::Auto, &*hook)?;
+    let pencil =
+        ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*hook)?;
+    drop(matrices);
+    let products = Products::Pencil(pencil);
+    let Products::Pencil(pencil) = &products else {
+        unreachable!("made above")
+    };
     let held = pencil
         .factorize_static(support, &*hook)
         .map_err(|e| match e {
@@ -69,21 +92,30 @@ pub fn inertia_relief_and_free_modes(
     hook.report(&Stage::Solves {
         columns: loads.ncols(),
     });
-    let t_a = relieved_modes(mass, rigid, loads, |mut p_g| {
-        for &i in support {
-            for j in 0..p_g.ncols() {
-                p_g[(i, j)] = 0.0;
+    let t_a = relieved_modes(
+        |x| products.mul_mass(x),
+        rigid,
+        loads,
+        |mut p_g| {
+            for &i in support {
+                for j in 0..p_g.ncols() {
+                    p_g[(i, j)] = 0.0;
+                }
             }
-        }
-        held.solve_in_place(p_g.as_mut());
-        p_g
-    })?;
-    let all = enough(free_eigenmodes_on(
-        &pencil,
+            held.solve_in_place(p_g.as_mut());
+            p_g
+        },
+    )?;
+    let mut all = free_eigenmodes_on(
+        pencil,
         held,
         at_least(band),
         support,
         rigid.vectors.as_ref(),
-    )?)?;
-    Ok((t_a, all))
+    )?;
+    if all.values.len() <= nr && all.values.len() < n {
+        // A band without elastic modes: the gap check needs one.
+        all = eigenmodes_on(pencil, None, Band::Lowest(nr + 1), None)?.slice(0, nr);
+    }
+    Ok((t_a, all, products))
 }

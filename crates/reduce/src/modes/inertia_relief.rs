@@ -11,7 +11,7 @@
 
 use super::{attachment::attachment_modes, complement, expand, rigid::RigidModes};
 use crate::ReduceError;
-use faer::Mat;
+use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
 use flexbody_linalg::ldlt::Ldlt;
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
@@ -19,9 +19,18 @@ use flexbody_linalg::{sparse, LinalgError, SparseMat};
 /// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
 /// the rigid-body motion they cause.
 pub fn self_equilibrated_loads(mass: &SparseMat, rigid: &RigidModes, loads: &Mat<f64>) -> Mat<f64> {
+    equilibrated(|x| sparse::symmetric_mul(mass, x), rigid, loads)
+}
+
+/// [`self_equilibrated_loads`] with the products `M X` of `mul_mass`.
+fn equilibrated(
+    mul_mass: impl Fn(MatRef<'_, f64>) -> Mat<f64>,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+) -> Mat<f64> {
     let t = &rigid.vectors;
     let rigid_accel = t.transpose() * loads;
-    loads - sparse::symmetric_mul(mass, (t * &rigid_accel).as_ref())
+    loads - mul_mass((t * &rigid_accel).as_ref())
 }
 
 /// Chooses a statically determinate support: exactly as many DOFs as there
@@ -128,10 +137,15 @@ pub fn inertia_relief_attachment_modes(
         },
         other => other.into(),
     })?;
-    relieved_modes(mass, rigid, loads, |p_g| {
-        let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
-        expand(&ldlt.solve(rhs.as_ref()), &free, n)
-    })
+    relieved_modes(
+        |x| sparse::symmetric_mul(mass, x),
+        rigid,
+        loads,
+        |p_g| {
+            let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
+            expand(&ldlt.solve(rhs.as_ref()), &free, n)
+        },
+    )
 }
 
 /// What a singular stiffness on the support is called in errors.
@@ -139,17 +153,17 @@ pub(crate) const SUPPORTED: &str = "the stiffness matrix on the statically deter
 
 /// Eq. 20 around a solver of the supported body: `solve(P_g)` returns `x`
 /// with `K x = P_g` on the free equations and `x = 0` on the support; the
-/// result is `G x = x - T_st (T_st^T M x)`.
+/// result is `G x = x - T_st (T_st^T M x)`. `mul_mass` gives `M X`.
 pub(crate) fn relieved_modes(
-    mass: &SparseMat,
+    mul_mass: impl Fn(MatRef<'_, f64>) -> Mat<f64>,
     rigid: &RigidModes,
     loads: &Mat<f64>,
     solve: impl FnOnce(Mat<f64>) -> Mat<f64>,
 ) -> Result<Mat<f64>, ReduceError> {
-    let p_g = self_equilibrated_loads(mass, rigid, loads);
+    let p_g = equilibrated(&mul_mass, rigid, loads);
     let x = solve(p_g);
     let t = &rigid.vectors;
-    let mx = sparse::symmetric_mul(mass, x.as_ref());
+    let mx = mul_mass(x.as_ref());
     let c = t.transpose() * &mx;
     Ok(&x - t * &c)
 }

@@ -1,0 +1,168 @@
+//! The model's `K` and `M` as a reduction holds them, and the products
+//! with them that the residualisation (eq. 23-24) and the projections
+//! `T^T K T`, `T^T M T` (eq. 5-7) need once the modes are found.
+//!
+//! A caller that hands `K` and `M` over ([`Matrices::Given`]) lets a
+//! large model's solver drop them as soon as it holds its compact copy
+//! (the lower triangles in [`ShiftedPencil`]): the factorisations and the
+//! Lanczos run then find the memory of the full matrices free, 2.4 GiB of
+//! a 1e6-DOF solid. The products afterwards come from that copy
+//! ([`Products::Pencil`]), or, for a body held at its interface, from the
+//! copy of the interior plus the few columns that couple it to the
+//! interface ([`Products::Bordered`]).
+
+use faer::{Mat, MatRef};
+use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::{sparse, SparseMat};
+
+/// `K` and `M` of the model, in full storage.
+pub(crate) enum Matrices<'a> {
+    /// Lent by the caller, who keeps them.
+    Lent(&'a SparseMat, &'a SparseMat),
+    /// Handed over: dropped once a solver holds its compact copy.
+    Given(Box<(SparseMat, SparseMat)>),
+}
+
+impl Matrices<'_> {
+    pub(crate) fn k(&self) -> &SparseMat {
+        match self {
+            Matrices::Lent(k, _) => k,
+            Matrices::Given(km) => &km.0,
+        }
+    }
+
+    pub(crate) fn m(&self) -> &SparseMat {
+        match self {
+            Matrices::Lent(_, m) => m,
+            Matrices::Given(km) => &km.1,
+        }
+    }
+}
+
+/// Products with the model's `K` and `M`.
+pub(crate) enum Products<'a> {
+    /// The matrices in full (the dense paths of small models).
+    Full(Matrices<'a>),
+    /// The compact copy of the pencil the eigen solver analysed.
+    Pencil(ShiftedPencil),
+    /// A pencil of the interior equations only, bordered by the interface.
+    Bordered(Box<Bordered>),
+}
+
+/// `K` and `M` of a body held at `boundary`: the pencil of the `interior`
+/// equations (renumbered `0..interior.len()`) and the coupling blocks
+/// `K_NB`, `M_NB` (sparse) and `K_BB`, `M_BB` (dense), all exact copies
+/// of the model's entries.
+pub(crate) struct Bordered {
+    pub pencil: ShiftedPencil,
+    pub interior: Vec<usize>,
+    pub boundary: Vec<usize>,
+    pub k_nb: SparseMat,
+    pub m_nb: SparseMat,
+    pub k_bb: Mat<f64>,
+    pub m_bb: Mat<f64>,
+}
+
+impl Bordered {
+    /// The coupling blocks of `k` and `m` around `pencil`, the pencil of
+    /// their `interior` equations.
+    pub(crate) fn new(
+        pencil: ShiftedPencil,
+        k: &SparseMat,
+        m: &SparseMat,
+        interior: Vec<usize>,
+        boundary: Vec<usize>,
+    ) -> Self {
+        Self {
+            k_nb: sparse::submatrix(k, &interior, &boundary),
+            m_nb: sparse::submatrix(m, &interior, &boundary),
+            k_bb: sparse::submatrix(k, &boundary, &boundary).to_dense(),
+            m_bb: sparse::submatrix(m, &boundary, &boundary).to_dense(),
+            pencil,
+            interior,
+            boundary,
+        }
+    }
+
+    /// `[A_NN A_NB; A_BN A_BB] x` with `A_NN x_N` from `interior`.
+    fn mul(
+        &self,
+        x: MatRef<'_, f64>,
+        interior: impl FnOnce(MatRef<'_, f64>) -> Mat<f64>,
+        a_nb: &SparseMat,
+        a_bb: &Mat<f64>,
+    ) -> Mat<f64> {
+        let c = x.ncols();
+        let x_n = Mat::from_fn(self.interior.len(), c, |i, j| x[(self.interior[i], j)]);
+        let x_b = Mat::from_fn(self.boundary.len(), c, |i, j| x[(self.boundary[i], j)]);
+        let mut y_n = interior(x_n.as_ref());
+        let mut y_b = a_bb * &x_b;
+        let a = a_nb.as_ref();
+        for b in 0..self.boundary.len() {
+            for (i, v) in a.row_idx_of_col(b).zip(a.val_of_col(b)) {
+                for j in 0..c {
+                    y_n[(i, j)] += v * x_b[(b, j)];
+                    y_b[(b, j)] += v * x_n[(i, j)];
+                }
+            }
+        }
+        let mut y = Mat::zeros(x.nrows(), c);
+        for j in 0..c {
+            for (k, &i) in self.interior.iter().enumerate() {
+                y[(i, j)] = y_n[(k, j)];
+            }
+            for (k, &i) in self.boundary.iter().enumerate() {
+                y[(i, j)] = y_b[(k, j)];
+            }
+        }
+        y
+    }
+}
+
+impl Products<'_> {
+    /// `K X`.
+    pub(crate) fn mul_stiffness(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        match self {
+            Products::Full(a) => sparse::symmetric_mul(a.k(), x),
+            Products::Pencil(p) => p.mul_stiffness(x),
+            Products::Bordered(b) => b.mul(x, |x| b.pencil.mul_stiffness(x), &b.k_nb, &b.k_bb),
+        }
+    }
+
+    /// `M X`.
+    pub(crate) fn mul_mass(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        match self {
+            Products::Full(a) => sparse::symmetric_mul(a.m(), x),
+            Products::Pencil(p) => p.mul_mass(x),
+            Products::Bordered(b) => b.mul(x, |x| b.pencil.mul_mass(x), &b.m_nb, &b.m_bb),
+        }
+    }
+
+    /// `T^T K T`, symmetrised exactly (eq. 7).
+    pub(crate) fn project_stiffness(&self, t: MatRef<'_, f64>) -> Mat<f64> {
+        project(t, self.mul_stiffness(t))
+    }
+
+    /// `T^T M T`, symmetrised exactly (eq. 5).
+    pub(crate) fn project_mass(&self, t: MatRef<'_, f64>) -> Mat<f64> {
+        project(t, self.mul_mass(t))
+    }
+
+    /// `T_res = T_stat - Phi Phi^T M T_stat` for M-orthonormal `phi`
+    /// (eq. 23-24, [`crate::modes::residual_modes`]).
+    pub(crate) fn residual_modes(&self, static_modes: &Mat<f64>, phi: &Mat<f64>) -> Mat<f64> {
+        if phi.ncols() == 0 {
+            return static_modes.clone();
+        }
+        let mt = self.mul_mass(static_modes.as_ref());
+        let c = phi.transpose() * &mt;
+        static_modes - phi * &c
+    }
+}
+
+/// `T^T (A T)`, symmetrised exactly.
+fn project(t: MatRef<'_, f64>, at: Mat<f64>) -> Mat<f64> {
+    let mut p = t.transpose() * &at;
+    sparse::symmetrize(&mut p);
+    p
+}
