@@ -345,6 +345,12 @@ fn handing_k_and_m_over_gives_the_same_body() {
             assert!((got - &want).norm_max() < 1e-12 * scale, "{method}");
         }
     }
+    // A band below the first elastic mode: the rigid-body modes and the
+    // residual inertia-relief attachment modes alone.
+    let mut spec = Reduction::new(Method::FreeResidual, 0, interface);
+    spec.max_frequency_hz = Some(1.0);
+    let body = reduce_taking(&mut s.clone(), &spec).unwrap();
+    assert_eq!(body.r(), 6 + 12);
 }
 
 /// Times both paths (run with `--release -- --ignored --nocapture`).

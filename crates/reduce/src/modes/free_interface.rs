@@ -76,10 +76,6 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     let pencil =
         ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*hook)?;
     drop(matrices);
-    let products = Products::Pencil(pencil);
-    let Products::Pencil(pencil) = &products else {
-        unreachable!("made above")
-    };
     let held = pencil
         .factorize_static(support, &*hook)
         .map_err(|e| match e {
@@ -93,7 +89,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         columns: loads.ncols(),
     });
     let t_a = relieved_modes(
-        |x| products.mul_mass(x),
+        |x| pencil.mul_mass(x),
         rigid,
         loads,
         |mut p_g| {
@@ -107,7 +103,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         },
     )?;
     let mut all = free_eigenmodes_on(
-        pencil,
+        &pencil,
         held,
         at_least(band),
         support,
@@ -115,7 +111,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     )?;
     if all.values.len() <= nr && all.values.len() < n {
         // A band without elastic modes: the gap check needs one.
-        all = eigenmodes_on(pencil, None, Band::Lowest(nr + 1), None)?.slice(0, nr);
+        all = eigenmodes_on(&pencil, None, Band::Lowest(nr + 1), None)?.slice(0, nr);
     }
-    Ok((t_a, all, products))
+    Ok((t_a, all, Products::Pencil(pencil)))
 }
