@@ -233,6 +233,43 @@ fn solid_stresses_from_ritz_coordinates_equal_those_from_displacements() {
     }
 }
 
+/// The modal stress matrices (all basis columns at once, the elements in
+/// parallel) hold each basis column's nodal stresses bit for bit, also
+/// where a kinematic coupling gives the face nodes' displacements.
+#[test]
+fn modal_stresses_are_the_nodal_stresses_of_each_basis_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let coupled = dir.path().join("coupled.inp");
+    std::fs::write(&coupled, coupled_deck("*KINEMATIC\n1, 6")).unwrap();
+    for (path, point) in [(fixture("hex20_beam", "inp"), "1"), (coupled, "9001")] {
+        let deck = load(&path, &MatrixFiles::default()).unwrap();
+        let model = deck.model.as_ref().unwrap();
+        let spec = Reduction::new(
+            Method::FreeResidual,
+            3,
+            deck.interface(Some(point)).unwrap(),
+        );
+        let body = reduce(&deck.sub, &spec).unwrap();
+        let modal = ModalStress::new(model, &body).unwrap();
+        for j in 0..body.r() {
+            let column: Vec<f64> = body.basis.col_as_slice(j).to_vec();
+            let direct = nodal_stresses(model, &column).unwrap();
+            assert_eq!(direct.nodes, modal.nodes);
+            for (k, sigma) in direct.stress.iter().enumerate() {
+                for (c, v) in sigma.iter().enumerate() {
+                    assert_eq!(
+                        v.to_bits(),
+                        modal.matrices[k][(c, j)].to_bits(),
+                        "{}: node {}, column {j}",
+                        path.display(),
+                        modal.nodes[k]
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The hex beam deck with an interface point coupled to its x = 0 face.
 fn coupled_deck(kind: &str) -> String {
     let text = std::fs::read_to_string(fixture("hex_beam", "inp")).unwrap();

@@ -51,7 +51,8 @@ use flexbody_fem::{DofKind, Substructure};
 use flexbody_linalg::orthonormal::m_orthonormalize;
 use flexbody_reduce::modes::rigid::rigid_body_transformation;
 use flexbody_reduce::ReducedBody;
-use std::collections::{BTreeMap, HashMap};
+use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// Below this M-norm (squared, relative) a rigid-body mode counts as
 /// contained in the span of the basis.
@@ -128,7 +129,7 @@ pub fn elastic_basis(sub: &Substructure, body: &ReducedBody) -> Result<ElasticBa
     let mut e0 = identity.clone();
     let mut floating = false;
     if rigid_o.ncols() > 0 {
-        let mt = mass_matrix * t;
+        let mt = flexbody_linalg::sparse::symmetric_mul(mass_matrix, t.as_ref());
         let c = rigid_o.transpose() * &mt; // n_r x r
         let llt = body
             .mass
@@ -252,23 +253,38 @@ impl NodeMass {
             equations[p][dof.kind.index()] = Some(i);
             node_of[i] = p;
         }
-        let mut sums: BTreeMap<(usize, usize), (f64, u32)> = BTreeMap::new();
+        // Per node q, the sums of its columns' entries in rows of the same
+        // direction, by row node p: a sparse accumulator (`slot[p]` is p's
+        // place in `row` while q is summed).
+        let dofs = sub.dof_map.dofs();
         let m = sub.matrices.mass.as_ref();
-        for j in 0..m.ncols() {
-            for (i, v) in m.row_idx_of_col(j).zip(m.val_of_col(j).iter()) {
-                let (di, dj) = (sub.dof_map.dof(i), sub.dof_map.dof(j));
-                if di.kind != dj.kind || di.kind.is_rotation() {
-                    continue;
+        let mut slot = vec![usize::MAX; coords.len()];
+        let mut row: Vec<(usize, f64, u32)> = Vec::new();
+        let mut coupling = Vec::new();
+        for (q, columns) in equations.iter().enumerate() {
+            for &j in columns.iter().flatten() {
+                let kind = dofs[j].kind;
+                for (i, v) in m.row_idx_of_col(j).zip(m.val_of_col(j)) {
+                    if dofs[i].kind != kind {
+                        continue;
+                    }
+                    let p = node_of[i];
+                    if slot[p] == usize::MAX {
+                        slot[p] = row.len();
+                        row.push((p, 0.0, 0));
+                    }
+                    let e = &mut row[slot[p]];
+                    e.1 += *v;
+                    e.2 += 1;
                 }
-                let e = sums.entry((node_of[i], node_of[j])).or_insert((0.0, 0));
-                e.0 += *v;
-                e.1 += 1;
             }
+            row.sort_unstable_by_key(|e| e.0);
+            for &(p, s, c) in &row {
+                slot[p] = usize::MAX;
+                coupling.push((p, q, s / c as f64));
+            }
+            row.clear();
         }
-        let coupling = sums
-            .into_iter()
-            .map(|((p, q), (s, c))| (p, q, s / c as f64))
-            .collect();
         Self {
             coords,
             equations,
@@ -348,7 +364,7 @@ pub fn mass_invariants(
     }
     let nq = phi.ncols();
     let rigid = rigid_body_transformation(sub, [0.0; 3]);
-    let mr = m * &rigid;
+    let mr = flexbody_linalg::sparse::symmetric_mul(m, rigid.as_ref());
     let rr = rigid.transpose() * &mr; // 6 x 6
     let dir_mass = [rr[(0, 0)], rr[(1, 1)], rr[(2, 2)]];
     let mass = dir_mass.iter().copied().fold(0.0, f64::max);
@@ -380,14 +396,25 @@ pub fn mass_invariants(
     let x0 = nodes.coords.clone();
     let sx0 = nodes.apply(&x0);
     let fields: Vec<Vec<[f64; 3]>> = (0..nq).map(|k| nodes.field(phi, k)).collect();
-    let sfields: Vec<Vec<[f64; 3]>> = fields.iter().map(|f| nodes.apply(f)).collect();
+    let sfields: Vec<Vec<[f64; 3]>> = fields.par_iter().map(|f| nodes.apply(f)).collect();
     // P(x0, Phi_k) and P(Phi_k, x0).
     let x_phi: Vec<[[f64; 3]; 3]> = sfields.iter().map(|sf| outer(&x0, sf)).collect();
     let phi_x: Vec<[[f64; 3]; 3]> = fields.iter().map(|f| outer(f, &sx0)).collect();
-    // P(Phi_k, Phi_l), [k][l].
-    let phi_phi: Vec<Vec<[[f64; 3]; 3]>> = fields
-        .iter()
-        .map(|f| sfields.iter().map(|sf| outer(f, sf)).collect())
+    // P(Phi_k, Phi_l), [k][l]: all of them as one product F^T (S F), the
+    // fields side by side (column 3 k + a: direction a of mode k).
+    let side_by_side =
+        |f: &[Vec<[f64; 3]>]| Mat::from_fn(nodes.coords.len(), 3 * nq, |p, c| f[c / 3][p][c % 3]);
+    let products = side_by_side(&fields).transpose() * side_by_side(&sfields);
+    let phi_phi: Vec<Vec<[[f64; 3]; 3]>> = (0..nq)
+        .map(|k| {
+            (0..nq)
+                .map(|l| {
+                    std::array::from_fn(|a| {
+                        std::array::from_fn(|b| products[(3 * k + a, 3 * l + b)])
+                    })
+                })
+                .collect()
+        })
         .collect();
 
     let j1 = x_phi

@@ -25,10 +25,11 @@
 
 use crate::ffrf::{elastic_basis, mass_invariants, node_rows, ElasticBasis};
 use crate::{write_atomically, ExportError};
-use faer::Mat;
+use faer::{Mat, MatRef};
 use flexbody_fem::{Model, Substructure};
 use flexbody_reduce::ReducedBody;
 use std::collections::BTreeSet;
+use std::io::{self, Write};
 use std::path::Path;
 
 /// `structure` code of a Taylor object whose entries are all listed.
@@ -275,49 +276,50 @@ impl Sid {
 
     /// The SID text.
     pub fn to_text(&self) -> String {
-        let mut s = String::new();
-        self.write_text(&mut s);
-        s
+        let mut text = Vec::new();
+        self.write_text(&mut text)
+            .expect("writing to memory does not fail");
+        String::from_utf8(text).expect("the SID text is UTF-8")
     }
 
-    fn write_text(&self, s: &mut String) {
-        use std::fmt::Write as _;
-        let _ = writeln!(
-            s,
+    /// Writes the SID text to `out`; the entries of large matrices (the
+    /// stress modes `ksigma` of every node) are formatted in parallel.
+    pub fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(
+            out,
             "# flexbody SID (Wallrapp 1994), SI units: m, kg, s, N, rad"
-        );
-        let _ = writeln!(s, "# fields and formulas: docs/sid.md");
-        s.push_str("part\nnew modal\nrefmod\n");
-        let _ = writeln!(s, "  mass = {:e}", self.refmod.mass);
-        let _ = writeln!(s, "  nelastq = {}", self.refmod.ielastq.len());
+        )?;
+        writeln!(out, "# fields and formulas: docs/sid.md")?;
+        out.write_all(b"part\nnew modal\nrefmod\n")?;
+        writeln!(out, "  mass = {:e}", self.refmod.mass)?;
+        writeln!(out, "  nelastq = {}", self.refmod.ielastq.len())?;
         for (i, name) in self.refmod.ielastq.iter().enumerate() {
-            let _ = writeln!(s, "  ielastq({}) = '{}'", i + 1, name.replace('\'', " "));
+            writeln!(out, "  ielastq({}) = '{}'", i + 1, name.replace('\'', " "))?;
         }
-        s.push_str("end refmod\nnew frame\n");
+        out.write_all(b"end refmod\nnew frame\n")?;
         for node in &self.nodes {
-            s.push_str("new node\n");
-            let _ = writeln!(s, "  rframe = '{}'", node.id);
+            out.write_all(b"new node\n")?;
+            writeln!(out, "  rframe = '{}'", node.id)?;
             for (name, t) in [
                 ("origin", &node.origin),
                 ("phi", &node.phi),
                 ("psi", &node.psi),
                 ("AP", &node.ap),
             ] {
-                write_taylor(s, name, t, "  ");
+                write_taylor(out, name, t, "  ")?;
             }
-            s.push_str("end node\n");
+            out.write_all(b"end node\n")?;
         }
-        s.push_str("end frame\n");
+        out.write_all(b"end frame\n")?;
         for (name, t) in self.quantities() {
-            write_taylor(s, name, t, "");
+            write_taylor(out, name, t, "")?;
         }
-        s.push_str("end modal\nend part\n");
+        out.write_all(b"end modal\nend part\n")
     }
 }
 
-fn write_taylor(s: &mut String, name: &str, t: &Taylor, indent: &str) {
-    use std::fmt::Write as _;
-    let _ = writeln!(s, "{indent}{name}");
+fn write_taylor(out: &mut dyn Write, name: &str, t: &Taylor, indent: &str) -> io::Result<()> {
+    writeln!(out, "{indent}{name}")?;
     for (key, v) in [
         ("order", t.order),
         ("nrow", t.nrow),
@@ -326,30 +328,74 @@ fn write_taylor(s: &mut String, name: &str, t: &Taylor, indent: &str) {
         ("nqn", t.nqn),
         ("structure", t.structure),
     ] {
-        let _ = writeln!(s, "{indent}  {key} = {v}");
+        writeln!(out, "{indent}  {key} = {v}")?;
     }
     if t.structure == FULL {
-        for i in 0..t.nrow {
-            for j in 0..t.ncol {
-                let _ = writeln!(s, "{indent}  m0({}, {}) = {:e}", i + 1, j + 1, t.m0[(i, j)]);
-            }
-        }
+        write_entries(out, indent, t.m0.as_ref(), None)?;
         for (k, m1) in t.m1.iter().enumerate() {
-            for i in 0..t.nrow {
-                for j in 0..t.ncol {
-                    let _ = writeln!(
-                        s,
-                        "{indent}  m1({}, {}, {}) = {:e}",
-                        i + 1,
-                        j + 1,
-                        k + 1,
-                        m1[(i, j)]
-                    );
-                }
-            }
+            write_entries(out, indent, m1.as_ref(), Some(k + 1))?;
         }
     }
-    let _ = writeln!(s, "{indent}end {name}");
+    writeln!(out, "{indent}end {name}")
+}
+
+/// One line `m0(i, j) = v` (or `m1(i, j, k) = v`) per entry of `m`, row
+/// by row; blocks of rows are formatted in parallel and written in order.
+fn write_entries(
+    out: &mut dyn Write,
+    indent: &str,
+    m: MatRef<'_, f64>,
+    k: Option<usize>,
+) -> io::Result<()> {
+    use rayon::prelude::*;
+    use std::fmt::Write as _;
+    const ROWS: usize = 512;
+    let starts: Vec<usize> = (0..m.nrows()).step_by(ROWS).collect();
+    let block = |&first: &usize| {
+        let mut s = String::new();
+        for i in first..(first + ROWS).min(m.nrows()) {
+            for j in 0..m.ncols() {
+                let _ = match k {
+                    None => writeln!(s, "{indent}  m0({}, {}) = {:e}", i + 1, j + 1, m[(i, j)]),
+                    Some(k) => writeln!(
+                        s,
+                        "{indent}  m1({}, {}, {k}) = {:e}",
+                        i + 1,
+                        j + 1,
+                        m[(i, j)]
+                    ),
+                };
+            }
+        }
+        s
+    };
+    // A few blocks per thread at a time, so that the text of a large
+    // matrix is never in memory whole; the next batch is formatted while
+    // this thread writes the last one.
+    let batches = starts.chunks(8 * rayon::current_num_threads());
+    if batches.len() <= 1 {
+        for text in starts.iter().map(block) {
+            out.write_all(text.as_bytes())?;
+        }
+        return Ok(());
+    }
+    std::thread::scope(|scope| {
+        let (send, texts) = std::sync::mpsc::sync_channel::<Vec<String>>(1);
+        scope.spawn(move || {
+            for batch in batches {
+                // The receiver is gone after a write error: stop.
+                if send.send(batch.par_iter().map(block).collect()).is_err() {
+                    break;
+                }
+            }
+        });
+        for batch in texts {
+            for text in &batch {
+                out.write_all(text.as_bytes())?;
+            }
+        }
+        Ok(())
+    })
 }
 
 /// Writes the SID of `body` (see [`Sid::new`]) to `path`, atomically.
@@ -370,8 +416,7 @@ pub fn write_sid_file(sid: &Sid, path: &Path) -> Result<(), ExportError> {
             return Err(ExportError::NonFiniteIn(name.to_string()));
         }
     }
-    let text = sid.to_text();
-    write_atomically(path, |out| out.write_all(text.as_bytes()))
+    write_atomically(path, |out| sid.write_text(out))
 }
 
 /// Reads a SID file written by [`write_sid`].

@@ -26,6 +26,26 @@ pub struct Rayleigh {
     pub beta: f64,
 }
 
+/// A DOF's value in a vector `u` over the equations ([`Model::value_terms`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ValueTerms {
+    /// `u[i]`: the DOF is equation `i`.
+    Equation(usize),
+    /// `sum c u[i]` over `(i, c)`: a DOF coupled by a constraint, or none
+    /// for a fixed DOF (zero).
+    Combination(Vec<(usize, f64)>),
+}
+
+impl ValueTerms {
+    /// The value in `u`, as [`Model::value`] computes it.
+    pub fn of(&self, u: &[f64]) -> f64 {
+        match self {
+            ValueTerms::Equation(i) => u[*i],
+            ValueTerms::Combination(terms) => terms.iter().map(|(i, c)| c * u[*i]).sum(),
+        }
+    }
+}
+
 /// A linear FE model. Built with [`Model::new`], which checks that every
 /// element refers to existing nodes; immutable afterwards.
 #[derive(Clone, Debug)]
@@ -281,6 +301,22 @@ impl Model {
                     .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| c * u[i]))
                     .sum()
             }),
+        }
+    }
+
+    /// How [`Self::value`] finds `dof`'s value in a vector over the
+    /// equations, for many vectors at once: the gathers of one DOF.
+    pub fn value_terms(&self, dof: Dof) -> ValueTerms {
+        match self.dof_map.index_of(dof) {
+            Some(i) => ValueTerms::Equation(i),
+            None => {
+                ValueTerms::Combination(self.constraints.get(&dof).map_or_else(Vec::new, |terms| {
+                    terms
+                        .iter()
+                        .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| (i, *c)))
+                        .collect()
+                }))
+            }
         }
     }
 

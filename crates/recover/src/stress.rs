@@ -5,10 +5,15 @@
 //! `sigma = T_sigma q` from the r coordinates alone.
 
 use faer::Mat;
+use flexbody_fem::element::solid::Solid;
 use flexbody_fem::element::von_mises;
-use flexbody_fem::{Dof, Element, FemError, Model, NodeId};
+use flexbody_fem::{Dof, Element, FemError, Model, NodeId, ValueTerms};
 use flexbody_reduce::ReducedBody;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+
+/// Elements whose stresses are computed (in parallel) before they are
+/// summed at their nodes: a few MB of results at a time.
+const ELEMENTS_PER_BATCH: usize = 4096;
 
 /// Averaged nodal stresses (Pa, Voigt `[sxx, syy, szz, sxy, syz, szx]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -68,18 +73,60 @@ pub struct ModalStress {
 }
 
 impl ModalStress {
-    /// Stresses of every basis column, one column of `T_sigma` each.
+    /// Stresses of every basis column, one column of `T_sigma` each: per
+    /// element, its geometry once for all columns, the elements in
+    /// parallel; the same values as [`nodal_stresses`] of each column, bit
+    /// for bit (each node sums its elements in the model's order).
     pub fn new(model: &Model, body: &ReducedBody) -> Result<Self, FemError> {
+        use rayon::prelude::*;
         let r = body.r();
-        let m = body.basis.nrows();
-        let mut columns = Vec::with_capacity(r);
-        for j in 0..r {
-            let t: Vec<f64> = (0..m).map(|i| body.basis[(i, j)]).collect();
-            columns.push(nodal_stresses(model, &t)?);
+        let solids: Vec<(&Element, &Solid)> = model
+            .elements()
+            .iter()
+            .filter_map(|e| match e {
+                Element::Solid(s) => Some((e, s)),
+                _ => None,
+            })
+            .collect();
+        let mut nodes: Vec<NodeId> = solids
+            .iter()
+            .flat_map(|(_, s)| s.nodes.iter().copied())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let position: HashMap<NodeId, usize> =
+            nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
+        // Per node and column, the sum over its elements; per node, their count.
+        let mut sum = vec![[0.0; 6]; nodes.len() * r];
+        let mut count = vec![0usize; nodes.len()];
+        let element_stresses = |(e, s): &(&Element, &Solid)| {
+            let coords: Vec<[f64; 3]> = s.nodes.iter().map(|&n| model.coords(n)).collect();
+            let terms: Vec<ValueTerms> = e.dofs().iter().map(|d| model.value_terms(*d)).collect();
+            let mut u_e = Vec::with_capacity(terms.len() * r);
+            for j in 0..r {
+                let u = body.basis.col_as_slice(j);
+                u_e.extend(terms.iter().map(|t| t.of(u)));
+            }
+            s.nodal_stress_columns(&coords, &u_e, r)
+        };
+        for chunk in solids.chunks(ELEMENTS_PER_BATCH) {
+            let stresses: Vec<_> = chunk.par_iter().map(element_stresses).collect();
+            for ((_, s), st) in chunk.iter().zip(stresses) {
+                let st = st?;
+                let nn = s.nodes.len();
+                for (a, node) in s.nodes.iter().enumerate() {
+                    let k = position[node];
+                    count[k] += 1;
+                    for j in 0..r {
+                        for (acc, v) in sum[k * r + j].iter_mut().zip(st[j * nn + a]) {
+                            *acc += v;
+                        }
+                    }
+                }
+            }
         }
-        let nodes = columns.first().map_or_else(Vec::new, |c| c.nodes.clone());
         let matrices = (0..nodes.len())
-            .map(|k| Mat::from_fn(6, r, |c, j| columns[j].stress[k][c]))
+            .map(|k| Mat::from_fn(6, r, |c, j| sum[k * r + j][c] / count[k] as f64))
             .collect();
         Ok(Self { nodes, matrices })
     }

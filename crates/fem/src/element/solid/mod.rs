@@ -285,11 +285,29 @@ impl Solid {
         coords: &[[f64; 3]],
         u_e: &[f64],
     ) -> Result<Vec<[f64; 6]>, FemError> {
+        self.nodal_stress_columns(coords, u_e, 1)
+    }
+
+    /// [`Self::nodal_stresses`] of `columns` displacement fields at once,
+    /// `u_e` holding them one after the other (`3 n` values each, `n`
+    /// nodes): the geometry is evaluated once for all (the modal stresses
+    /// of a reduced body take every basis column). Entry `j n + a` is node
+    /// `a`'s stress in field `j`, each as [`Self::nodal_stresses`] gives it.
+    pub fn nodal_stress_columns(
+        &self,
+        coords: &[[f64; 3]],
+        u_e: &[f64],
+        columns: usize,
+    ) -> Result<Vec<[f64; 6]>, FemError> {
         let geometry = self.checked_geometry(coords)?;
         let nn = self.kind.node_count();
-        if u_e.len() != 3 * nn {
+        if u_e.len() != 3 * nn * columns {
+            let fields = match columns {
+                1 => String::new(),
+                _ => format!(" per field ({columns} fields)"),
+            };
             return Err(self.invalid(format!(
-                "{} needs {} displacement values, got {}",
+                "{} needs {} displacement values{fields}, got {}",
                 self.kind.name(),
                 3 * nn,
                 u_e.len()
@@ -297,16 +315,23 @@ impl Solid {
         }
         let (lambda, mu) = self.lame();
         let rule = self.kind.stiffness_rule();
-        let mut at_points = [[0.0; 6]; MAX_POINTS];
-        for (s, xi) in at_points.iter_mut().zip(rule.points()) {
-            let point = geometry.point(*xi);
-            *s = stress(&strain(&point.grad[..nn], u_e), lambda, mu);
-        }
+        let points: Vec<_> = rule.points().iter().map(|xi| geometry.point(*xi)).collect();
+        // The extrapolation weights of each node from the points.
         let mut c = [0.0; MAX_POINTS];
-        Ok(shape::node_coordinates(self.kind)
+        let weights: Vec<[f64; MAX_POINTS]> = shape::node_coordinates(self.kind)
             .iter()
             .map(|xi| {
                 rule.interpolation_weights(*xi, &mut c);
+                c
+            })
+            .collect();
+        let mut out = Vec::with_capacity(nn * columns);
+        let mut at_points = [[0.0; 6]; MAX_POINTS];
+        for u in u_e.chunks_exact(3 * nn) {
+            for (s, point) in at_points.iter_mut().zip(&points) {
+                *s = stress(&strain(&point.grad[..nn], u), lambda, mu);
+            }
+            out.extend(weights.iter().map(|c| {
                 let mut s = [0.0; 6];
                 for (cp, sp) in c.iter().zip(&at_points[..rule.len()]) {
                     for (si, spi) in s.iter_mut().zip(sp) {
@@ -314,8 +339,9 @@ impl Solid {
                     }
                 }
                 s
-            })
-            .collect())
+            }));
+        }
+        Ok(out)
     }
 
     fn invalid(&self, reason: String) -> FemError {
