@@ -16,6 +16,7 @@
 //! half-written file.
 
 pub mod ffrf;
+mod float_text;
 pub mod format;
 mod json_layout;
 pub mod mtx;

@@ -15,6 +15,7 @@
 //! through [`write_atomically`]; `index.json` comes last, so a folder with an
 //! index always has its matrices.
 
+use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
@@ -66,15 +67,26 @@ pub struct Index {
     pub files: BTreeMap<String, String>,
 }
 
+/// The Matrix Market text of `m`, its columns formatted in parallel.
 fn matrix_text(m: &Mat<f64>, what: &str) -> String {
-    let mut s = String::with_capacity(24 * m.nrows() * m.ncols() + 100);
+    use rayon::prelude::*;
+    let columns: Vec<String> = (0..m.ncols())
+        .into_par_iter()
+        .map(|j| {
+            let mut s = String::with_capacity(24 * m.nrows());
+            for i in 0..m.nrows() {
+                push_exp(&mut s, m[(i, j)]);
+                s.push('\n');
+            }
+            s
+        })
+        .collect();
+    let mut s = String::with_capacity(columns.iter().map(String::len).sum::<usize>() + 100);
     s.push_str("%%MatrixMarket matrix array real general\n");
     s.push_str(&format!("% flexbody reduced body: {what}\n"));
     s.push_str(&format!("{} {}\n", m.nrows(), m.ncols()));
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            s.push_str(&format!("{:e}\n", m[(i, j)]));
-        }
+    for column in &columns {
+        s.push_str(column);
     }
     s
 }

@@ -24,6 +24,7 @@
 //! line of what is wrong.
 
 use crate::ffrf::{elastic_basis, mass_invariants, node_rows, ElasticBasis};
+use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::{Mat, MatRef};
 use flexbody_fem::{Model, Substructure};
@@ -356,15 +357,11 @@ fn write_entries(
         for i in first..(first + ROWS).min(m.nrows()) {
             for j in 0..m.ncols() {
                 let _ = match k {
-                    None => writeln!(s, "{indent}  m0({}, {}) = {:e}", i + 1, j + 1, m[(i, j)]),
-                    Some(k) => writeln!(
-                        s,
-                        "{indent}  m1({}, {}, {k}) = {:e}",
-                        i + 1,
-                        j + 1,
-                        m[(i, j)]
-                    ),
+                    None => write!(s, "{indent}  m0({}, {}) = ", i + 1, j + 1),
+                    Some(k) => write!(s, "{indent}  m1({}, {}, {k}) = ", i + 1, j + 1),
                 };
+                push_exp(&mut s, m[(i, j)]);
+                s.push('\n');
             }
         }
         s

@@ -17,6 +17,7 @@
 //! the nodes. Field data `frequencies_hz` lists the modes' frequencies.
 //! Nodes without a DOF or stress get zeros.
 
+use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::Mat;
 use flexbody_fem::element::SolidKind;
@@ -52,21 +53,35 @@ pub fn cell_types(model: &Model) -> Vec<u8> {
         .collect()
 }
 
-fn data_array(s: &mut String, name: &str, components: usize, values: impl Iterator<Item = f64>) {
+/// A `DataArray` of `values`, `3 components` per line; blocks of lines are
+/// formatted in parallel.
+fn data_array(s: &mut String, name: &str, components: usize, values: &[f64]) {
+    use rayon::prelude::*;
+    const LINES: usize = 2048;
     let _ = write!(
         s,
         "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{components}\" format=\"ascii\">\n          "
     );
-    for (i, v) in values.enumerate() {
-        if i > 0 {
-            s.push(if i % (3 * components.max(1)) == 0 {
-                '\n'
-            } else {
-                ' '
-            });
-        }
-        let _ = write!(s, "{v:e}");
-    }
+    let per_line = 3 * components.max(1);
+    let blocks: Vec<String> = values
+        .par_chunks(per_line * LINES)
+        .map(|block| {
+            let mut t = String::new();
+            for (l, line) in block.chunks(per_line).enumerate() {
+                if l > 0 {
+                    t.push('\n');
+                }
+                for (i, v) in line.iter().enumerate() {
+                    if i > 0 {
+                        t.push(' ');
+                    }
+                    push_exp(&mut t, *v);
+                }
+            }
+            t
+        })
+        .collect();
+    s.push_str(&blocks.join("\n"));
     s.push_str("\n        </DataArray>\n");
 }
 
@@ -97,12 +112,13 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
             Some((t, order.iter().map(|&i| point_of[&en[i]]).collect()))
         })
         .collect();
-    let value = |node: u64, kind: DofKind, k: usize| {
-        modes
-            .dof_map
-            .index_of(Dof::new(node, kind))
-            .map_or(0.0, |i| modes.basis[(i, k)])
-    };
+    // Each node's equations of ux, uy, uz, rx, ry, rz, and its row of the
+    // modal stresses.
+    let equations: Vec<[Option<usize>; 6]> = nodes
+        .iter()
+        .map(|n| DofKind::ALL.map(|d| modes.dof_map.index_of(Dof::new(n.id, d))))
+        .collect();
+    let value = |p: usize, d: usize, k: usize| equations[p][d].map_or(0.0, |i| modes.basis[(i, k)]);
     let has_rotations = modes.dof_map.dofs().iter().any(|d| d.kind.is_rotation());
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <UnstructuredGrid>\n");
@@ -143,56 +159,40 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
         .enumerate()
         .map(|(i, n)| (*n, i))
         .collect();
+    let stress_rows: Vec<Option<usize>> = nodes
+        .iter()
+        .map(|n| stress_row.get(&n.id).copied())
+        .collect();
     for k in 0..r {
         let name = format!("mode {:02}", k + 1);
-        data_array(
-            &mut s,
-            &name,
-            3,
-            nodes
-                .iter()
-                .flat_map(|n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| value(n.id, d, k))),
-        );
+        let field = |first: usize| -> Vec<f64> {
+            (0..np)
+                .flat_map(|p| [0, 1, 2].map(|d| value(p, first + d, k)))
+                .collect()
+        };
+        data_array(&mut s, &name, 3, &field(0));
         if has_rotations {
-            data_array(
-                &mut s,
-                &format!("{name} rotation"),
-                3,
-                nodes.iter().flat_map(|n| {
-                    [DofKind::Rx, DofKind::Ry, DofKind::Rz].map(|d| value(n.id, d, k))
-                }),
-            );
+            data_array(&mut s, &format!("{name} rotation"), 3, &field(3));
         }
         if !stress.nodes.is_empty() {
-            let sigma = |id: u64| -> [f64; 6] {
-                stress_row.get(&id).map_or([0.0; 6], |&i| {
-                    let m: &Mat<f64> = &stress.matrices[i];
-                    std::array::from_fn(|c| m[(c, k)])
+            let sigma: Vec<[f64; 6]> = stress_rows
+                .iter()
+                .map(|row| {
+                    row.map_or([0.0; 6], |i| {
+                        let m: &Mat<f64> = &stress.matrices[i];
+                        std::array::from_fn(|c| m[(c, k)])
+                    })
                 })
-            };
-            data_array(
-                &mut s,
-                &format!("{name} stress"),
-                6,
-                nodes.iter().flat_map(|n| sigma(n.id)),
-            );
-            data_array(
-                &mut s,
-                &format!("{name} von Mises"),
-                1,
-                nodes
-                    .iter()
-                    .map(|n| flexbody_fem::element::von_mises(&sigma(n.id))),
-            );
+                .collect();
+            let flat: Vec<f64> = sigma.iter().flatten().copied().collect();
+            data_array(&mut s, &format!("{name} stress"), 6, &flat);
+            let von_mises: Vec<f64> = sigma.iter().map(flexbody_fem::element::von_mises).collect();
+            data_array(&mut s, &format!("{name} von Mises"), 1, &von_mises);
         }
     }
     s.push_str("      </PointData>\n      <Points>\n");
-    data_array(
-        &mut s,
-        "coordinates",
-        3,
-        nodes.iter().flat_map(|n| n.coords),
-    );
+    let coordinates: Vec<f64> = nodes.iter().flat_map(|n| n.coords).collect();
+    data_array(&mut s, "coordinates", 3, &coordinates);
     s.push_str("      </Points>\n      <Cells>\n");
     let conn: Vec<String> = cells
         .iter()
