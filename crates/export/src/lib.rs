@@ -113,6 +113,7 @@ pub struct BodyFile {
     pub stiffness: Vec<Vec<f64>>,
     pub damping: Option<Vec<Vec<f64>>>,
     /// The Ritz basis T, one row per DOF of `dofs`.
+    #[serde(serialize_with = "json_layout::rows_in_parallel")]
     pub basis: Vec<Vec<f64>>,
 }
 
