@@ -12,7 +12,8 @@ use flexbody_reduce::ReducedBody;
 use std::collections::{BTreeMap, HashMap};
 
 /// Elements whose stresses are computed (in parallel) before they are
-/// summed at their nodes: a few MB of results at a time.
+/// summed at their nodes: 60 MB of results at a time for C3D8 and 38 basis
+/// columns (48 bytes per node and column).
 const ELEMENTS_PER_BATCH: usize = 4096;
 
 /// Averaged nodal stresses (Pa, Voigt `[sxx, syy, szz, sxy, syz, szx]`).
