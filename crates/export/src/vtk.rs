@@ -153,15 +153,10 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
     );
     let ids: Vec<String> = nodes.iter().map(|n| n.id.to_string()).collect();
     let _ = writeln!(s, "          {}\n        </DataArray>", ids.join(" "));
-    let stress_row: HashMap<u64, usize> = stress
-        .nodes
-        .iter()
-        .enumerate()
-        .map(|(i, n)| (*n, i))
-        .collect();
+    // (The modal stresses' nodes ascend.)
     let stress_rows: Vec<Option<usize>> = nodes
         .iter()
-        .map(|n| stress_row.get(&n.id).copied())
+        .map(|n| stress.nodes.binary_search(&n.id).ok())
         .collect();
     for k in 0..r {
         let name = format!("mode {:02}", k + 1);

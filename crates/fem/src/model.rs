@@ -31,17 +31,19 @@ pub struct Rayleigh {
 pub enum ValueTerms {
     /// `u[i]`: the DOF is equation `i`.
     Equation(usize),
-    /// `sum c u[i]` over `(i, c)`: a DOF coupled by a constraint, or none
-    /// for a fixed DOF (zero).
+    /// `sum c u[i]` over `(i, c)`: a DOF coupled by a constraint.
     Combination(Vec<(usize, f64)>),
+    /// Zero: a fixed DOF.
+    Fixed,
 }
 
 impl ValueTerms {
-    /// The value in `u`, as [`Model::value`] computes it.
+    /// The value in `u` ([`Model::value`]).
     pub fn of(&self, u: &[f64]) -> f64 {
         match self {
             ValueTerms::Equation(i) => u[*i],
             ValueTerms::Combination(terms) => terms.iter().map(|(i, c)| c * u[*i]).sum(),
+            ValueTerms::Fixed => 0.0,
         }
     }
 }
@@ -293,15 +295,7 @@ impl Model {
     /// The value of any DOF of the model from a vector over its equations
     /// (fixed DOFs: 0; coupled DOFs: from their constraint).
     pub fn value(&self, dof: Dof, u: &[f64]) -> f64 {
-        match self.dof_map.index_of(dof) {
-            Some(i) => u[i],
-            None => self.constraints.get(&dof).map_or(0.0, |terms| {
-                terms
-                    .iter()
-                    .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| c * u[i]))
-                    .sum()
-            }),
-        }
+        self.value_terms(dof).of(u)
     }
 
     /// How [`Self::value`] finds `dof`'s value in a vector over the
@@ -309,14 +303,17 @@ impl Model {
     pub fn value_terms(&self, dof: Dof) -> ValueTerms {
         match self.dof_map.index_of(dof) {
             Some(i) => ValueTerms::Equation(i),
-            None => {
-                ValueTerms::Combination(self.constraints.get(&dof).map_or_else(Vec::new, |terms| {
-                    terms
-                        .iter()
-                        .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| (i, *c)))
-                        .collect()
-                }))
-            }
+            None => self
+                .constraints
+                .get(&dof)
+                .map_or(ValueTerms::Fixed, |terms| {
+                    ValueTerms::Combination(
+                        terms
+                            .iter()
+                            .filter_map(|(d, c)| self.dof_map.index_of(*d).map(|i| (i, *c)))
+                            .collect(),
+                    )
+                }),
         }
     }
 

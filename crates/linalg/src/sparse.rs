@@ -117,7 +117,12 @@ pub fn symmetric_mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
 
 /// `b^T a b` for sparse symmetric `a` and dense `b`, symmetrised exactly.
 pub fn project(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
-    let ab = symmetric_mul(a, b);
+    project_product(b, symmetric_mul(a, b))
+}
+
+/// `b^T (a b)` from the product `ab = a b` of a symmetric `a`,
+/// symmetrised exactly.
+pub fn project_product(b: MatRef<'_, f64>, ab: Mat<f64>) -> Mat<f64> {
     let mut p = b.transpose() * &ab;
     symmetrize(&mut p);
     p

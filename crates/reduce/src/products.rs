@@ -140,29 +140,17 @@ impl Products<'_> {
 
     /// `T^T K T`, symmetrised exactly (eq. 7).
     pub(crate) fn project_stiffness(&self, t: MatRef<'_, f64>) -> Mat<f64> {
-        project(t, self.mul_stiffness(t))
+        sparse::project_product(t, self.mul_stiffness(t))
     }
 
     /// `T^T M T`, symmetrised exactly (eq. 5).
     pub(crate) fn project_mass(&self, t: MatRef<'_, f64>) -> Mat<f64> {
-        project(t, self.mul_mass(t))
+        sparse::project_product(t, self.mul_mass(t))
     }
 
     /// `T_res = T_stat - Phi Phi^T M T_stat` for M-orthonormal `phi`
     /// (eq. 23-24, [`crate::modes::residual_modes`]).
     pub(crate) fn residual_modes(&self, static_modes: &Mat<f64>, phi: &Mat<f64>) -> Mat<f64> {
-        if phi.ncols() == 0 {
-            return static_modes.clone();
-        }
-        let mt = self.mul_mass(static_modes.as_ref());
-        let c = phi.transpose() * &mt;
-        static_modes - phi * &c
+        crate::modes::residual::residual_modes_by(static_modes, phi, |t| self.mul_mass(t))
     }
-}
-
-/// `T^T (A T)`, symmetrised exactly.
-fn project(t: MatRef<'_, f64>, at: Mat<f64>) -> Mat<f64> {
-    let mut p = t.transpose() * &at;
-    sparse::symmetrize(&mut p);
-    p
 }
