@@ -15,13 +15,14 @@
 
 use crate::body::{ModeKind, ReducedBody};
 use crate::modes::eigen::eigenmodes_from;
+use crate::modes::elastic_interface::elastic_residual_modes_from;
 use crate::modes::fixed_interface::craig_bampton_modes_from;
 use crate::modes::free_interface::inertia_relief_and_free_modes_from;
 use crate::modes::{
-    self, constraint_modes, eigenmodes, eigenmodes_in, residual_modes, rigid_body_modes,
-    statically_determinate_support, unit_loads, Band, RigidModes,
+    self, eigenmodes, rigid_body_modes, statically_determinate_support, unit_loads, Band,
+    RigidModes,
 };
-use crate::products::{Matrices, Products};
+use crate::products::Matrices;
 use crate::ReduceError;
 use faer::sparse::Triplet;
 use faer::Mat;
@@ -234,22 +235,16 @@ fn reduce_from(
             (concat(&[&psi, &phi.vectors]), kinds, products)
         }
         Method::ElasticResidual => {
-            let (k, m) = (matrices.k(), matrices.m());
-            let supported = sparse::add_scaled(k, 1.0, &support_stiffness(sub, &spec.springs)?)?;
-            let phi = eigenmodes_in(&supported, m, band(0))?;
-            // The constraint modes of K and of K + C agree (C acts on H only).
-            let psi = constraint_modes(k, &boundary, map, &rigid)?;
-            let res = residual_modes(&psi, &phi.vectors, m);
+            let springs = support_stiffness(sub, &spec.springs)?;
+            let (psi, phi, products) =
+                elastic_residual_modes_from(matrices, springs, &boundary, map, &rigid, band(0))?;
+            let res = products.residual_modes(&psi, &phi.vectors);
             let mut kinds: Vec<ModeKind> = boundary
                 .iter()
                 .map(|&i| ModeKind::ResidualConstraint { dof: map.dof(i) })
                 .collect();
             kinds.extend(eigen_kinds(&phi));
-            (
-                concat(&[&res, &phi.vectors]),
-                kinds,
-                Products::Full(matrices),
-            )
+            (concat(&[&res, &phi.vectors]), kinds, products)
         }
         Method::FreeResidual => {
             let nr = rigid.count();

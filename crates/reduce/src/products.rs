@@ -47,6 +47,15 @@ pub(crate) enum Products<'a> {
     Pencil(ShiftedPencil),
     /// A pencil of the interior equations only, bordered by the interface.
     Bordered(Box<Bordered>),
+    /// The pencil of the body on its springs.
+    Sprung(Box<Sprung>),
+}
+
+/// `K + C` and `M` of the body on its interface springs `C`: the products
+/// of the free body take the springs' part off again (eq. 28).
+pub(crate) struct Sprung {
+    pub pencil: ShiftedPencil,
+    pub springs: SparseMat,
 }
 
 /// `K` and `M` of a body held at `boundary`: the pencil of the `interior`
@@ -126,6 +135,7 @@ impl Products<'_> {
             Products::Full(a) => sparse::symmetric_mul(a.k(), x),
             Products::Pencil(p) => p.mul_stiffness(x),
             Products::Bordered(b) => b.mul(x, |x| b.pencil.mul_stiffness(x), &b.k_nb, &b.k_bb),
+            Products::Sprung(s) => s.pencil.mul_stiffness(x) - sparse::symmetric_mul(&s.springs, x),
         }
     }
 
@@ -135,6 +145,7 @@ impl Products<'_> {
             Products::Full(a) => sparse::symmetric_mul(a.m(), x),
             Products::Pencil(p) => p.mul_mass(x),
             Products::Bordered(b) => b.mul(x, |x| b.pencil.mul_mass(x), &b.m_nb, &b.m_bb),
+            Products::Sprung(s) => s.pencil.mul_mass(x),
         }
     }
 

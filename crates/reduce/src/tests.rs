@@ -264,6 +264,50 @@ fn constraint_modes_are_unit_displacements_with_interior_equilibrium() {
 }
 
 #[test]
+fn soft_springs_give_the_constraint_modes_by_refinement() {
+    // The L-frame on springs of 10 N/m in x, y and z at its ends and its
+    // corner (its beams' stiffness is about 1e8): X = (K + C)^-1 [0; I]
+    // is a rigid motion of about 1/c plus the elastic part X X_H^-1 keeps,
+    // which round-off blurs to about 1e-7. The refinements against the
+    // interior equilibrium bring the constraint modes back to round-off.
+    use crate::modes::elastic_interface::constraint_modes_by_flexibility;
+    use flexbody_linalg::ordering::Ordering;
+    use flexbody_linalg::shift_invert::ShiftedPencil;
+    use flexbody_linalg::sparse::add_scaled;
+    let model = l_frame();
+    let (s, rigid) = setup(&model);
+    let map = model.dof_map();
+    let nodes = [1u64, 5, 9];
+    let dofs: Vec<Dof> = nodes
+        .iter()
+        .flat_map(|&n| DofKind::ALL.map(|k| Dof::new(n, k)))
+        .collect();
+    let h = interface_equations(&sub(&model), &dofs).unwrap();
+    let springs: Vec<crate::GroundSpring> = nodes
+        .iter()
+        .flat_map(|&node| {
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|direction| {
+                crate::GroundSpring {
+                    node,
+                    direction,
+                    stiffness: 10.0,
+                }
+            })
+        })
+        .collect();
+    let c = crate::method::support_stiffness(&sub(&model), &springs).unwrap();
+    let supported = add_scaled(&s.stiffness, 1.0, &c).unwrap();
+    let pencil = ShiftedPencil::analyze(&supported, &s.mass, Ordering::Auto).unwrap();
+    let factor = pencil.factorize(0.0).unwrap();
+    let interior: Vec<usize> = (0..map.len()).filter(|i| !h.contains(i)).collect();
+    let psi = constraint_modes_by_flexibility(&pencil, &factor, &h, &interior)
+        .expect("the refinements reach round-off");
+    let want = constraint_modes(&s.stiffness, &h, map, &rigid).unwrap();
+    let err = max_abs((&psi - &want).as_ref()) / max_abs(want.as_ref());
+    assert!(err < 1e-12, "{err:e}");
+}
+
+#[test]
 fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
     let model = planar_beam(20);
     let err = reduce(

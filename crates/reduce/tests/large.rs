@@ -304,6 +304,78 @@ fn free_residual_modes_from_one_analysis_equal_the_separate_solvers() {
     assert!(residuals.iter().all(|&r| r < 1e-8), "{residuals:?}");
 }
 
+/// Springs of `stiffness` in x, y and z at each of `nodes`, as
+/// `elastic-residual` takes them.
+fn springs_at(nodes: &[u64], stiffness: f64) -> Vec<flexbody_reduce::GroundSpring> {
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    nodes
+        .iter()
+        .flat_map(|&node| {
+            axes.map(|direction| flexbody_reduce::GroundSpring {
+                node,
+                direction,
+                stiffness,
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
+    // The bar on springs at the 4 corner nodes of its end x = 0 (the
+    // interface). Springs in x, y and z there hold the body: K + C is
+    // regular, and its one factor gives the constraint modes as
+    // X X_H^-1 (X = (K + C)^-1 [0; I]) and the Lanczos operator at shift
+    // 0. One spring in x holds nothing: the constraint modes come from the
+    // pencil held at the interface, the Lanczos runs at a negative shift.
+    // Both against K_NN's own LDL^T and the dense solver of K + C.
+    use flexbody_reduce::method::support_stiffness;
+    use flexbody_reduce::modes::{
+        constraint_modes, elastic_residual_modes, rigid_body_modes, Band,
+    };
+    let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let corners = [1u64, 11, 34, 44];
+    let boundary: Vec<usize> = (0..s.len())
+        .filter(|&i| corners.contains(&s.dof_map.dof(i).node))
+        .collect();
+    assert_eq!(boundary.len(), 12);
+    let rigid = rigid_body_modes(&s, [0.5, 0.1, 0.1]);
+    let psi_ref = constraint_modes(k, &boundary, &s.dof_map, &rigid).unwrap();
+    let one = vec![flexbody_reduce::GroundSpring {
+        node: 1,
+        direction: [1.0, 0.0, 0.0],
+        stiffness: 1e7,
+    }];
+    for (springs, rigid_like) in [(springs_at(&corners, 1e7), 0), (one, 5)] {
+        let c = support_stiffness(&s, &springs).unwrap();
+        let (psi, phi) =
+            elastic_residual_modes(k, m, &c, &boundary, &s.dof_map, &rigid, Band::Lowest(12))
+                .unwrap();
+        assert!(
+            (&psi - &psi_ref).norm_max() < 1e-10 * psi_ref.norm_max(),
+            "{}",
+            (&psi - &psi_ref).norm_max() / psi_ref.norm_max()
+        );
+        let supported = sparse::add_scaled(k, 1.0, &c).unwrap();
+        let dense = eigenmodes_with(&supported, m, 12, EigenSolver::Dense).unwrap();
+        // The motions the springs leave free are at zero frequency.
+        let zero = dense.values.iter().filter(|l| **l < 1.0).count();
+        assert_eq!(zero, rigid_like);
+        assert_close(&phi.values, &dense.values, 1e-10);
+        let g: Mat<f64> = phi.vectors.transpose() * sparse::symmetric_mul(m, phi.vectors.as_ref());
+        assert!((g - Mat::<f64>::identity(12, 12)).norm_max() < 1e-10);
+        let residuals = flexbody_linalg::lanczos::residuals(
+            &supported,
+            m,
+            &phi.values,
+            phi.vectors.as_ref(),
+            &sparse::diagonal(&supported),
+        );
+        assert!(residuals.iter().all(|&r| r < 1e-8), "{residuals:?}");
+    }
+}
+
 /// `reduce_taking` (K and M handed over, dropped once the solver holds its
 /// compact copy) gives `reduce`'s body bit for bit, for every method, and
 /// leaves 0 x 0 matrices behind; the reduced K and M from the compact copy
@@ -320,14 +392,21 @@ fn handing_k_and_m_over_gives_the_same_body() {
         .iter()
         .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n, k)))
         .collect();
-    for method in Method::ALL {
+    // One spring, which holds nothing, and springs that hold the body (the
+    // elastic-residual method's two paths).
+    let one = vec![GroundSpring {
+        node: 1,
+        direction: [1.0, 0.0, 0.0],
+        stiffness: 1e7,
+    }];
+    let runs = Method::ALL
+        .into_iter()
+        .map(|method| (method, one.clone()))
+        .chain([(Method::ElasticResidual, springs_at(&[1, 11, 34, 44], 1e7))]);
+    for (method, springs) in runs {
         let modes = if method == Method::Guyan { 0 } else { 10 };
         let mut spec = Reduction::new(method, modes, interface.clone());
-        spec.springs = vec![GroundSpring {
-            node: 1,
-            direction: [1.0, 0.0, 0.0],
-            stiffness: 1e7,
-        }];
+        spec.springs = springs;
         let lent = reduce(&s, &spec).unwrap();
         let mut given = s.clone();
         let body = reduce_taking(&mut given, &spec).unwrap();

@@ -122,11 +122,7 @@ pub(crate) fn eigenmodes_from(
     band: Band,
 ) -> Result<(EigenModes, Vec<f64>, Products<'_>), ReduceError> {
     let n = matrices.k().nrows();
-    let dense = match band {
-        Band::Lowest(count) => dense_for(n, count),
-        Band::BelowHz(_) => n < SPARSE_FROM,
-    };
-    if dense || band == Band::Lowest(0) {
+    if dense_path(n, band) || band == Band::Lowest(0) {
         let (stiffness, mass) = (matrices.k(), matrices.m());
         let modes = eigenmodes_in(stiffness, mass, band)?;
         let residuals = flexbody_linalg::lanczos::residuals(
@@ -152,6 +148,15 @@ pub(crate) fn eigenmodes_from(
     drop(matrices);
     let found = lanczos_band(&pencil, None, band, None, None)?;
     Ok((found.pairs, found.residuals, Products::Pencil(pencil)))
+}
+
+/// Whether [`eigenmodes_in`] takes the dense solver for `band` of an
+/// `n`-DOF model.
+pub(crate) fn dense_path(n: usize, band: Band) -> bool {
+    match band {
+        Band::Lowest(count) => dense_for(n, count),
+        Band::BelowHz(_) => n < SPARSE_FROM,
+    }
 }
 
 /// Whether [`EigenSolver::Auto`] takes the dense solver for `count` modes

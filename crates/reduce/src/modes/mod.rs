@@ -3,6 +3,7 @@
 pub mod attachment;
 pub mod constraint;
 pub mod eigen;
+pub mod elastic_interface;
 pub mod fixed_interface;
 pub mod free_interface;
 pub mod inertia_relief;
@@ -15,6 +16,7 @@ pub use eigen::{
     eigenmodes, eigenmodes_in, eigenmodes_owned, fixed_interface_eigenmodes,
     fixed_interface_eigenmodes_in, Band, EigenModes, DENSE_LIMIT,
 };
+pub use elastic_interface::elastic_residual_modes;
 pub use fixed_interface::craig_bampton_modes;
 pub use free_interface::inertia_relief_and_free_modes;
 pub use inertia_relief::{
