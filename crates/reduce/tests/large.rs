@@ -424,6 +424,23 @@ fn handing_k_and_m_over_gives_the_same_body() {
             assert!((got - &want).norm_max() < 1e-12 * scale, "{method}");
         }
     }
+    // Without eigenmodes, Guyan and elastic-residual are the constraint
+    // modes alone, from one factorisation of the interior.
+    let boundary = flexbody_reduce::method::interface_equations(&s, &interface).unwrap();
+    let rigid = flexbody_reduce::method::free_body_rigid_modes(&s).unwrap();
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let want = flexbody_reduce::modes::constraint_modes(k, &boundary, &s.dof_map, &rigid).unwrap();
+    for method in [Method::Guyan, Method::ElasticResidual] {
+        let mut spec = Reduction::new(method, 0, interface.clone());
+        spec.springs = springs_at(&[1, 11, 34, 44], 1e7);
+        let body = reduce_taking(&mut s.clone(), &spec).unwrap();
+        assert!(
+            (&body.basis - &want).norm_max() < 1e-12 * want.norm_max(),
+            "{method}"
+        );
+        let mass = sparse::project(m, want.as_ref());
+        assert!((&body.mass - &mass).norm_max() < 1e-12 * mass.norm_max());
+    }
     // A band below the first elastic mode: the rigid-body modes and the
     // residual inertia-relief attachment modes alone.
     let mut spec = Reduction::new(Method::FreeResidual, 0, interface);

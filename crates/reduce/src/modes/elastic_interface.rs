@@ -14,8 +14,8 @@
 //! separate solvers paid two orderings and three factorisations. When they
 //! do not, the same pencil held at the interface gives `K_NN` (equal to
 //! `(K + C)_NN`) for the constraint modes, and the Lanczos runs at a
-//! negative shift. Springs off the interface, and small models, take the
-//! separate path.
+//! negative shift; without eigenmodes it is the one factorisation. Springs
+//! off the interface, and small models, take the separate path.
 //!
 //! The free body's products are the pencil's less the springs' (eq. 28:
 //! `T^T K T = T^T (K + C) T - T^T C T`).
@@ -63,7 +63,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    if dense_path(n, band) || band == Band::Lowest(0) || !on_equations(&springs, boundary) {
+    if dense_path(n, band) || !on_equations(&springs, boundary) {
         let (k, m) = (matrices.k(), matrices.m());
         let supported = sparse::add_scaled(k, 1.0, &springs)?;
         let phi = eigenmodes_in(&supported, m, band)?;
@@ -77,10 +77,18 @@ pub(crate) fn elastic_residual_modes_from<'a>(
         ShiftedPencil::analyze_reporting(&supported, matrices.m(), Ordering::Auto, &*hook)?
     };
     drop(matrices);
-    let supports = supports_rigid_motion(&springs, rigid)?;
     let sprung = Sprung { pencil, springs };
     let pencil = &sprung.pencil;
-    let regular = if supports {
+    if band == Band::Lowest(0) {
+        // The constraint modes alone: K_NN is the one factorisation.
+        let (psi, _) = held_constraint_modes(pencil, boundary, &interior, dof_map)?;
+        let phi = EigenModes {
+            vectors: Mat::zeros(n, 0),
+            values: vec![],
+        };
+        return Ok((psi, phi, Products::Sprung(Box::new(sprung))));
+    }
+    let regular = if supports_rigid_motion(&sprung.springs, rigid)? {
         regular_factor(pencil.factorize_static(&[], &*hook))?
     } else {
         None

@@ -6,7 +6,8 @@
 //! solver can work at shift 0 on the very factor of `K_NN` that gave the
 //! constraint modes: one ordering and one factorisation of `K_NN` serve
 //! both (plus the Sturm check's), where two separate solvers would pay for
-//! two. Small models take the separate dense path.
+//! two. Guyan's static condensation (no eigenmodes) takes the same path
+//! without the Lanczos run. Small models take the separate dense path.
 
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
 use super::eigen::{eigenmodes_on, fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
@@ -47,7 +48,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    if interior.len() < SPARSE_FROM || band == Band::Lowest(0) {
+    if interior.len() < SPARSE_FROM {
         let (stiffness, mass) = (matrices.k(), matrices.m());
         return Ok((
             constraint_modes(stiffness, boundary, dof_map, rigid)?,
@@ -87,10 +88,18 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     });
     k_factor.solve_in_place(u_n.as_mut());
     let psi = constraint_columns(n, boundary, interior, &u_n);
-    let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0))?;
-    let phi = EigenModes {
-        vectors: expand(&found.vectors, interior, n),
-        values: found.values,
+    // Guyan's static condensation takes the constraint modes alone.
+    let phi = if band == Band::Lowest(0) {
+        EigenModes {
+            vectors: Mat::zeros(n, 0),
+            values: vec![],
+        }
+    } else {
+        let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0))?;
+        EigenModes {
+            vectors: expand(&found.vectors, interior, n),
+            values: found.values,
+        }
     };
     Ok((psi, phi, Products::Bordered(Box::new(bordered))))
 }
