@@ -4,7 +4,7 @@
 
 use faer::Mat;
 use flexbody_fem::element::solid::{Solid, SolidKind};
-use flexbody_fem::{Element, Material, Model, Node, Substructure};
+use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node, Substructure};
 use flexbody_linalg::lanczos::{lanczos, LanczosParams, Wanted};
 use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::sparse;
@@ -17,6 +17,18 @@ use std::collections::BTreeMap;
 /// `(size_x, 0, 0)` by that node alone: it can rotate about it (a
 /// mechanism with 3 zero-frequency modes besides the 6 rigid ones).
 fn block(nx: usize, ny: usize, nz: usize, size: [f64; 3], dangling: bool) -> Substructure {
+    block_held(nx, ny, nz, size, dangling, false)
+}
+
+/// [`block`], with `clamped` every DOF of its end x = 0 fixed.
+fn block_held(
+    nx: usize,
+    ny: usize,
+    nz: usize,
+    size: [f64; 3],
+    dangling: bool,
+    clamped: bool,
+) -> Substructure {
     let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
     let mut nodes = Vec::new();
     for k in 0..=nz {
@@ -85,7 +97,18 @@ fn block(nx: usize, ny: usize, nz: usize, size: [f64; 3], dangling: bool) -> Sub
             material: steel,
         }));
     }
-    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
+    let mut fixed = Vec::new();
+    if clamped {
+        for k in 0..=nz {
+            for j in 0..=ny {
+                let node = id(0, j, k);
+                fixed.extend(
+                    [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|kind| Dof::new(node, kind)),
+                );
+            }
+        }
+    }
+    let model = Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap();
     Substructure::from_model(&model).unwrap()
 }
 
@@ -304,6 +327,45 @@ fn free_residual_modes_from_one_analysis_equal_the_separate_solvers() {
     assert!(residuals.iter().all(|&r| r < 1e-8), "{residuals:?}");
 }
 
+#[test]
+fn free_residual_of_a_supported_body_from_one_factorisation() {
+    // The bar clamped at its end x = 0 and loaded at the 4 corner nodes of
+    // its end x = 1: no rigid-body modes, so plain attachment modes K^-1 P
+    // (eq. 18) and the eigenmodes, both from one factor of K (the Lanczos
+    // at shift 0), against K's own LDL^T and the dense solver.
+    use flexbody_reduce::modes::{
+        attachment_modes, inertia_relief_and_free_modes, unit_loads, Band, RigidModes,
+    };
+    let s = block_held(10, 3, 3, [1.0, 0.2, 0.2], false, true);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    assert!(s.len() >= SPARSE_FROM);
+    let boundary: Vec<usize> = (0..s.len())
+        .filter(|&i| [11u64, 44, 143, 176].contains(&s.dof_map.dof(i).node))
+        .collect();
+    assert_eq!(boundary.len(), 12);
+    let rigid = RigidModes {
+        vectors: Mat::zeros(s.len(), 0),
+        motions: vec![],
+    };
+    let loads = unit_loads(s.len(), &boundary);
+    let (t_a, all) =
+        inertia_relief_and_free_modes(k, m, &rigid, &loads, &[], &s.dof_map, Band::Lowest(12))
+            .unwrap();
+    let want = attachment_modes(k, &loads, &s.dof_map).unwrap();
+    assert!((&t_a - &want).norm_max() < 1e-10 * want.norm_max());
+    let dense = eigenmodes_with(k, m, 12, EigenSolver::Dense).unwrap();
+    assert_close(&all.values, &dense.values, 1e-10);
+    let g: Mat<f64> = all.vectors.transpose() * sparse::symmetric_mul(m, all.vectors.as_ref());
+    assert!((g - Mat::<f64>::identity(12, 12)).norm_max() < 1e-10);
+    // Through `reduce`, with K and M handed over: the same body.
+    let interface: Vec<Dof> = boundary.iter().map(|&i| s.dof_map.dof(i)).collect();
+    let spec = Reduction::new(Method::FreeResidual, 6, interface);
+    let lent = reduce(&s, &spec).unwrap();
+    let body = flexbody_reduce::reduce_taking(&mut s.clone(), &spec).unwrap();
+    assert_eq!(body.r(), 12 + 6);
+    assert!(body.basis == lent.basis && body.stiffness == lent.stiffness);
+}
+
 /// Springs of `stiffness` in x, y and z at each of `nodes`, as
 /// `elastic-residual` takes them.
 fn springs_at(nodes: &[u64], stiffness: f64) -> Vec<flexbody_reduce::GroundSpring> {
@@ -383,7 +445,6 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
 /// `T^T K T` and `T^T M T` of the full matrices.
 #[test]
 fn handing_k_and_m_over_gives_the_same_body() {
-    use flexbody_fem::{Dof, DofKind};
     use flexbody_reduce::{reduce_taking, GroundSpring};
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     assert!(s.len() - 12 >= SPARSE_FROM);

@@ -9,7 +9,9 @@
 //! Lanczos operator itself: on loads in equilibrium its inverse is the
 //! elastic flexibility, shift-invert at shift 0 with the rigid-body modes
 //! deflated ([`flexbody_linalg::lanczos::Held`]). Only the Sturm check
-//! factorises once more. Small models take the separate dense path.
+//! factorises once more. A supported body (no rigid-body modes) takes plain
+//! attachment modes and the Lanczos at shift 0 from the one factor of `K`.
+//! Small models take the separate dense path.
 
 use super::eigen::{
     eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band, SPARSE_FROM,
@@ -61,7 +63,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
         within => within,
     };
-    if n < SPARSE_FROM || nr == 0 {
+    if n < SPARSE_FROM {
         let (stiffness, mass) = (matrices.k(), matrices.m());
         let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)?;
         let mut all = eigenmodes_in(stiffness, mass, at_least(band))?;
@@ -71,11 +73,31 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         }
         return Ok((t_a, all, Products::Full(matrices)));
     }
-    check_support(rigid, support, dof_map)?;
+    if nr > 0 {
+        check_support(rigid, support, dof_map)?;
+    }
     let hook = progress::global();
     let pencil =
         ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*hook)?;
     drop(matrices);
+    if nr == 0 {
+        // A supported body: K is regular, the attachment modes are K^-1 P
+        // (eq. 18), and K's factor is the Lanczos operator at shift 0.
+        let factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
+            LinalgError::Singular { index, .. } => ReduceError::Singular {
+                what: "the stiffness matrix of the supported body",
+                dof: dof_map.dof(index),
+            },
+            other => other.into(),
+        })?;
+        hook.report(&Stage::Solves {
+            columns: loads.ncols(),
+        });
+        let mut t_a = loads.clone();
+        factor.solve_in_place(t_a.as_mut());
+        let all = eigenmodes_on(&pencil, Some(factor), at_least(band), Some(0.0))?;
+        return Ok((t_a, all, Products::Pencil(pencil)));
+    }
     let held = pencil
         .factorize_static(support, &*hook)
         .map_err(|e| match e {
