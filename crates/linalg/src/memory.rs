@@ -128,7 +128,7 @@ pub(crate) fn ensure_factor_room(
     resident: usize,
 ) -> Result<(), LinalgError> {
     let missing = entries.saturating_sub(resident);
-    if missing == 0 {
+    if missing < TRIVIAL_FACTOR {
         return Ok(());
     }
     ensure_room(
@@ -136,6 +136,11 @@ pub(crate) fn ensure_factor_room(
         &format!("the LDL^T factor of {equations} equations ({entries} entries of L)"),
     )
 }
+
+/// Factors of fewer entries (1 MiB) are not checked: reading `/proc` costs
+/// more than factorising them, and a time integration factorises small
+/// Jacobians thousands of times.
+const TRIVIAL_FACTOR: usize = 1 << 17;
 
 /// The room under a budget of `limit` bytes with `resident` bytes in use.
 fn under_limit(limit: u64, resident: u64) -> Room {
