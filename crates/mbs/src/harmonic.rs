@@ -3,12 +3,11 @@
 //! (a vehicle over `z(s) = a cos(2 pi s / L_w)`). Nonlinear connections enter
 //! with their tangent at rest ([`crate::ForceLaw::linearized`]).
 
+use crate::linear_solve::solve;
 use crate::system::{Assembled, System};
 use crate::MbsError;
-use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
-use faer::Mat;
-use flexbody_linalg::{sparse, SparseMat};
+use flexbody_linalg::sparse;
 
 /// Steady-state response at one frequency; complex amplitudes as (re, im).
 #[derive(Clone, Debug)]
@@ -56,23 +55,32 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
     }
     let a = sparse::add_scaled(&stiffness, -omega * omega, &mass)?;
     let damped = damping.compute_nnz() > 0 && omega != 0.0;
-    let (q_re, q_im) = if damped || load_im.iter().any(|v| *v != 0.0) {
-        // [A  -B; B  A] [x; y] = [f_re; f_im], B = Omega D.
+    let (q_re, q_im) = if damped {
+        // (A + i B)(x + i y) = f, B = Omega D, as the real symmetric
+        // [A  -B; -B  -A] [x; y] = [f_re; -f_im].
         let mut t = Vec::new();
         for e in sparse::triplets_of(&a, 1.0) {
             t.push(Triplet::new(e.row, e.col, e.val));
-            t.push(Triplet::new(e.row + n, e.col + n, e.val));
+            t.push(Triplet::new(e.row + n, e.col + n, -e.val));
         }
         for e in sparse::triplets_of(&damping, omega) {
             t.push(Triplet::new(e.row, e.col + n, -e.val));
-            t.push(Triplet::new(e.row + n, e.col, e.val));
+            t.push(Triplet::new(e.row + n, e.col, -e.val));
         }
         let big = sparse::from_triplets(2 * n, 2 * n, &t)?;
-        let rhs: Vec<f64> = load_re.iter().chain(load_im.iter()).copied().collect();
-        let x = solve(&big, &rhs, omega)?;
+        let rhs: Vec<f64> = load_re
+            .iter()
+            .copied()
+            .chain(load_im.iter().map(|v| -v))
+            .collect();
+        let x = solve(&big, &[rhs], omega)?.remove(0);
         (x[..n].to_vec(), x[n..].to_vec())
+    } else if load_im.iter().any(|v| *v != 0.0) {
+        let mut x = solve(&a, &[load_re, load_im], omega)?;
+        let im = x.remove(1);
+        (x.remove(0), im)
     } else {
-        (solve(&a, &load_re, omega)?, vec![0.0; n])
+        (solve(&a, &[load_re], omega)?.remove(0), vec![0.0; n])
     };
     let part = |at: usize, len: usize| (q_re[at..at + len].to_vec(), q_im[at..at + len].to_vec());
     let flexible_coords: Vec<(Vec<f64>, Vec<f64>)> = system
@@ -118,29 +126,114 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
     })
 }
 
-/// Sparse LU solve with a residual check (a singular dynamic stiffness
-/// shows up as a non-finite or inaccurate solution).
-fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
-    let n = b.len();
-    let lu = a.sp_lu().map_err(|_| MbsError::Singular { omega })?;
-    let rhs = Mat::from_fn(n, 1, |i, _| b[i]);
-    let x = lu.solve(rhs.as_ref());
-    let r = a * &x - &rhs;
-    let finite = (0..n).all(|i| x[(i, 0)].is_finite());
-    let a_max = a.as_ref().val().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let scale = a_max * x.norm_max() + rhs.norm_max();
-    let accurate = r.norm_max() <= 1e-8 * scale; // false for NaN too
-    if !finite || !accurate {
-        return Err(MbsError::Singular { omega });
-    }
-    Ok((0..n).map(|i| x[(i, 0)]).collect())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linear_solve::solve_lu;
     use crate::{Connection, Endpoint, ForceLaw, RigidBody, Track};
+    use faer::Mat;
     use flexbody_fem::DofKind;
+    use flexbody_linalg::ldlt::Ldlt;
+    use flexbody_linalg::SparseMat;
+
+    /// `K - Omega^2 M` of a fixed-free chain of 60 unit springs and masses,
+    /// with `Omega^2` between its 5th and 6th eigenvalue (indefinite), and
+    /// a damper at every third mass.
+    fn chain() -> (SparseMat, SparseMat) {
+        let n = 60;
+        let omega2 = {
+            // lambda_k = 4 sin^2((2k - 1) pi / (2 (2n + 1))) for k = 5, 6.
+            let l = |k: f64| {
+                4.0 * ((2.0 * k - 1.0) * std::f64::consts::PI / (2.0 * (2 * n + 1) as f64))
+                    .sin()
+                    .powi(2)
+            };
+            0.5 * (l(5.0) + l(6.0))
+        };
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        for i in 0..n {
+            let diag = if i + 1 == n { 1.0 } else { 2.0 };
+            a.push(Triplet::new(i, i, diag - omega2));
+            if i + 1 < n {
+                a.push(Triplet::new(i, i + 1, -1.0));
+                a.push(Triplet::new(i + 1, i, -1.0));
+            }
+            if i % 3 == 0 {
+                b.push(Triplet::new(i, i, 0.05));
+            }
+        }
+        (
+            sparse::from_triplets(n, n, &a).unwrap(),
+            sparse::from_triplets(n, n, &b).unwrap(),
+        )
+    }
+
+    #[test]
+    fn the_symmetric_solve_equals_the_lu_solve_on_an_indefinite_matrix() {
+        let (a, b) = chain();
+        let n = a.nrows();
+        // The LDL^T exists without pivoting here: its 5 negative pivots are
+        // the eigenvalues below Omega^2 (Sylvester).
+        let f = Ldlt::factorize(&a).unwrap();
+        assert_eq!(f.inertia().negative, 5);
+        let f_re: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let f_im: Vec<f64> = (0..n).map(|i| (i as f64 * 0.11).cos()).collect();
+        let x = solve(&a, &[f_re.clone(), f_im.clone()], 1.0).unwrap();
+        let rhs = Mat::from_fn(n, 2, |i, j| [&f_re, &f_im][j][i]);
+        let want = solve_lu(&a, &rhs, 1.0).unwrap();
+        for j in 0..2 {
+            for i in 0..n {
+                assert!((x[j][i] - want[(i, j)]).abs() < 1e-10 * want.norm_max());
+            }
+        }
+        // Damped: the real symmetric form [A -B; -B -A] against the LU of
+        // the plain real form [A -B; B A].
+        let mut sym = Vec::new();
+        let mut plain = Vec::new();
+        for e in sparse::triplets_of(&a, 1.0) {
+            sym.push(Triplet::new(e.row, e.col, e.val));
+            sym.push(Triplet::new(e.row + n, e.col + n, -e.val));
+            plain.push(Triplet::new(e.row, e.col, e.val));
+            plain.push(Triplet::new(e.row + n, e.col + n, e.val));
+        }
+        for e in sparse::triplets_of(&b, 1.0) {
+            sym.push(Triplet::new(e.row, e.col + n, -e.val));
+            sym.push(Triplet::new(e.row + n, e.col, -e.val));
+            plain.push(Triplet::new(e.row, e.col + n, -e.val));
+            plain.push(Triplet::new(e.row + n, e.col, e.val));
+        }
+        let sym = sparse::from_triplets(2 * n, 2 * n, &sym).unwrap();
+        let plain = sparse::from_triplets(2 * n, 2 * n, &plain).unwrap();
+        assert!(Ldlt::factorize(&sym).is_ok());
+        let rhs: Vec<f64> = f_re
+            .iter()
+            .copied()
+            .chain(f_im.iter().map(|v| -v))
+            .collect();
+        let x = solve(&sym, &[rhs], 1.0).unwrap();
+        let rhs = Mat::from_fn(2 * n, 1, |i, _| if i < n { f_re[i] } else { f_im[i - n] });
+        let want = solve_lu(&plain, &rhs, 1.0).unwrap();
+        for i in 0..2 * n {
+            assert!((x[0][i] - want[(i, 0)]).abs() < 1e-10 * want.norm_max());
+        }
+    }
+
+    #[test]
+    fn a_vanishing_pivot_falls_back_to_the_lu() {
+        // [0 1; 1 0]: no LDL^T without pivoting, the LU swaps the rows.
+        let a = sparse::from_triplets(2, 2, &[Triplet::new(0, 1, 1.0), Triplet::new(1, 0, 1.0)])
+            .unwrap();
+        assert!(Ldlt::factorize(&a).is_err());
+        let x = solve(&a, &[vec![3.0, 5.0]], 1.0).unwrap();
+        assert_eq!(x, vec![vec![5.0, 3.0]]);
+        // Singular: an error naming the frequency, not a wrong answer.
+        let zero = sparse::from_triplets(2, 2, &[Triplet::new(0, 0, 1.0)]).unwrap();
+        assert!(matches!(
+            solve(&zero, &[vec![1.0, 1.0]], 7.0),
+            Err(MbsError::Singular { omega }) if omega == 7.0
+        ));
+    }
 
     /// A rigid mass on a spring-damper over the track: the closed form
     /// `x = (k + i Omega b) z / (k - m Omega^2 + i Omega b)`.

@@ -14,6 +14,7 @@ pub mod body;
 pub mod connection;
 pub mod force_law;
 pub mod harmonic;
+mod linear_solve;
 pub mod modal;
 pub mod system;
 pub mod time;

@@ -11,9 +11,9 @@
 
 use crate::body::Row;
 use crate::connection::Endpoint;
+use crate::linear_solve::Factor;
 use crate::system::{Assembled, Kinematics, System};
 use crate::MbsError;
-use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind};
@@ -434,7 +434,7 @@ pub fn simulate(
         iterations: vec![0],
     };
     let mut x_scale = state.x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let mut linear_jacobian: Option<(f64, faer::sparse::linalg::solvers::Lu<usize, f64>)> = None;
+    let mut linear_jacobian: Option<(f64, Factor)> = None;
     while t < settings.duration * (1.0 - 1e-12) {
         h = h.min(settings.duration - t);
         let t1 = t + h;
@@ -471,15 +471,14 @@ pub fn simulate(
                 // Linear: one factorisation per step size.
                 if linear_jacobian.as_ref().is_none_or(|(hh, _)| *hh != h) {
                     let j = eq.jacobian(&x1, &v1, t1, c_v, c_x)?;
-                    let lu = j.sp_lu().map_err(|_| MbsError::Singular { omega: 0.0 })?;
-                    linear_jacobian = Some((h, lu));
+                    linear_jacobian = Some((h, Factor::new(&j, 0.0)?));
                 }
-                let lu = &linear_jacobian
+                let factor = &linear_jacobian
                     .as_ref()
-                    .map(|(_, lu)| lu)
+                    .map(|(_, f)| f)
                     .ok_or(MbsError::Singular { omega: 0.0 })?;
                 let b = Mat::from_fn(n, 1, |i, _| neg[i]);
-                let x = lu.solve(b.as_ref());
+                let x = factor.solve(b.as_ref());
                 (0..n).map(|i| x[(i, 0)]).collect::<Vec<f64>>()
             } else {
                 let j = eq.jacobian(&x1, &v1, t1, c_v, c_x)?;
@@ -637,13 +636,11 @@ fn norm(a: &[f64]) -> f64 {
     a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Sparse LU solve.
+/// A solve with the Jacobian (symmetric `LDL^T` or LU, [`Factor`]).
 fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
-    let n = b.len();
-    let lu = a.sp_lu().map_err(|_| MbsError::Singular { omega })?;
-    let rhs = Mat::from_fn(n, 1, |i, _| b[i]);
-    let x = lu.solve(rhs.as_ref());
-    let out: Vec<f64> = (0..n).map(|i| x[(i, 0)]).collect();
+    let rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
+    let x = Factor::new(a, omega)?.solve(rhs.as_ref());
+    let out: Vec<f64> = x.col(0).iter().copied().collect();
     if out.iter().all(|v| v.is_finite()) {
         Ok(out)
     } else {
