@@ -480,3 +480,37 @@ fn info_factor_gives_the_factor_that_modes_analyses() {
     let o = flexbody(&["info", model]);
     assert!(!String::from_utf8_lossy(&o.stdout).contains("entries of L"));
 }
+
+#[test]
+fn frf_full_on_a_model_beyond_the_dense_solver_skips_the_damped_modes_by_name() {
+    // The vehicle with its side beam in 3100 elements (6204 coordinates): the
+    // transfer functions of the full model are solved (sparse), but its
+    // damped modes would need the dense eigen solver; the command says so
+    // and still writes frf.csv.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/vehicle.toml"),
+    )
+    .unwrap();
+    assert!(text.contains("elements = 20\n") && text.contains("points = 240\n"));
+    let model = dir.path().join("fine.toml");
+    std::fs::write(
+        &model,
+        text.replacen("elements = 20\n", "elements = 3100\n", 1)
+            .replacen("points = 240\n", "points = 3\n", 1),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = flexbody(&[
+        "frf",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--full",
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout.contains("not computed"), "{stdout}");
+    assert!(stdout.contains("dense eigen solver, which stops at 6000"));
+    assert!(out.join("frf.csv").exists());
+}

@@ -52,6 +52,8 @@ pub enum MbsError {
     Settings(String),
     #[error("Newton iterations did not converge at t = {time} s after {iterations} iterations; reduce the time step")]
     NoConvergence { time: f64, iterations: usize },
+    #[error("the damped modes of a system of {coordinates} coordinates need the dense eigen solver, which stops at {limit}: reduce the body first")]
+    TooLargeForDense { coordinates: usize, limit: usize },
     #[error(transparent)]
     Linalg(#[from] flexbody_linalg::LinalgError),
 }

@@ -18,6 +18,7 @@ use crate::MbsError;
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
 use flexbody_linalg::LinalgError;
+use flexbody_reduce::modes::DENSE_LIMIT;
 
 /// One damped mode (of a complex-conjugate pair, or a real overdamped root).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -33,7 +34,8 @@ pub struct DampedMode {
 }
 
 /// Damped modes of `system`, ascending natural frequency; each conjugate
-/// pair once.
+/// pair once. Dense: a system of more than [`DENSE_LIMIT`] coordinates (a
+/// full FE model) is an error.
 pub fn damped_modes(system: &System) -> Result<Vec<DampedMode>, MbsError> {
     let layout = system.layout();
     let kins = system.all_kinematics(&layout)?;
@@ -43,6 +45,12 @@ pub fn damped_modes(system: &System) -> Result<Vec<DampedMode>, MbsError> {
         stiffness,
     } = system.assemble(&kins, true)?;
     let n = layout.len;
+    if n > DENSE_LIMIT {
+        return Err(MbsError::TooLargeForDense {
+            coordinates: n,
+            limit: DENSE_LIMIT,
+        });
+    }
     let undamped = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
     if undamped.values.len() != n {
         // Massless coordinates: infinite eigenvalues, not a damped system of
@@ -134,5 +142,30 @@ mod tests {
         assert!((md.natural_hz * 2.0 * std::f64::consts::PI - omega).abs() < 1e-12 * omega);
         assert!((md.damping_ratio - zeta).abs() < 1e-12);
         assert!((md.damped_hz / md.natural_hz - (1.0 - zeta * zeta).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_system_beyond_the_dense_solver_is_refused_by_name() {
+        // A full FE model's coordinates would ask the dense solver for
+        // n^2 numbers (720 GB at 3e5): an error before any is allocated.
+        let n = DENSE_LIMIT + 1;
+        let s = System {
+            rigid: (0..n)
+                .map(|i| RigidBody {
+                    name: format!("m{i}"),
+                    mass: 1.0,
+                    inertia: [0.0; 6],
+                    center: [i as f64, 0.0, 0.0],
+                    active: vec![DofKind::Uz],
+                })
+                .collect(),
+            ..Default::default()
+        };
+        let err = damped_modes(&s).unwrap_err();
+        assert!(matches!(
+            err,
+            MbsError::TooLargeForDense { coordinates, limit } if coordinates == n && limit == DENSE_LIMIT
+        ));
+        assert!(err.to_string().contains("reduce the body first"));
     }
 }
