@@ -659,7 +659,6 @@ fn peak_memory() -> String {
     })
 }
 
-/// The full FE model (the reference) or the reduced body.
 /// The flexible body a simulation or frf runs: the reduced `body`, or the
 /// full FE model where there is none (`--full`).
 fn flexible<'a>(
@@ -689,9 +688,10 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
         .clone()
         .with_context(|| format!("{}: no [simulation] table", model.display()))?;
     // --full runs the FE model itself: nothing to reduce.
-    let body = match full {
-        true => None,
-        false => Some(simulate::simulation_body(&file, &sub, &spec)?),
+    let body = if full {
+        None
+    } else {
+        Some(simulate::simulation_body(&file, &sub, &spec)?)
     };
     let flexible = flexible(&sub, body.as_ref());
     let h = simulate::run_simulation(&file, flexible)?;
@@ -788,9 +788,10 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
         )
     })?;
     // --full runs the FE model itself: nothing to reduce.
-    let body = match full {
-        true => None,
-        false => Some(simulate::simulation_body(&file, &sub, &spec)?),
+    let body = if full {
+        None
+    } else {
+        Some(simulate::simulation_body(&file, &sub, &spec)?)
     };
     let flexible = flexible(&sub, body.as_ref());
     let t = simulate::run_frf(&file, flexible)?;
