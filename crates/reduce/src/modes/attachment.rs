@@ -7,6 +7,9 @@ use flexbody_fem::DofMap;
 use flexbody_linalg::ldlt::Ldlt;
 use flexbody_linalg::{LinalgError, SparseMat};
 
+/// What a singular `K` of a supported body is called in errors.
+pub(crate) const SUPPORTED_BODY: &str = "the stiffness matrix of the supported body";
+
 /// Unit-load matrix `P_1` (m x s): a unit force (or moment) at each of the
 /// equations in `dofs`.
 pub fn unit_loads(n: usize, dofs: &[usize]) -> Mat<f64> {
@@ -22,7 +25,7 @@ pub fn attachment_modes(
 ) -> Result<Mat<f64>, ReduceError> {
     let ldlt = Ldlt::factorize(stiffness).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Singular {
-            what: "the stiffness matrix of the supported body",
+            what: SUPPORTED_BODY,
             dof: dof_map.dof(index),
         },
         other => other.into(),

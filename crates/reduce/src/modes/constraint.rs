@@ -28,13 +28,8 @@ pub fn constraint_modes(
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let k_nn = sparse::submatrix(stiffness, &interior, &interior);
     let k_nh = sparse::submatrix(stiffness, &interior, boundary);
-    let ldlt = Ldlt::factorize(&k_nn).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
-            interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
-            free: vec![dof_map.dof(interior[index])],
-        },
-        other => other.into(),
-    })?;
+    let ldlt = Ldlt::factorize(&k_nn)
+        .map_err(|e| mechanism_error(e, boundary, dof_map, |k| interior[k]))?;
     let rhs = -k_nh.to_dense();
     let u_n = ldlt.solve(rhs.as_ref());
     Ok(constraint_columns(n, boundary, &interior, &u_n))
@@ -56,6 +51,24 @@ pub(crate) fn constraint_columns(
         }
     }
     t
+}
+
+/// `e` from factorising `K_NN`, a vanishing pivot named as the mechanism
+/// it is: the interface and the free DOF, `equation(index)` being the
+/// model's equation of the pivot's row.
+pub(crate) fn mechanism_error(
+    e: LinalgError,
+    boundary: &[usize],
+    dof_map: &DofMap,
+    equation: impl Fn(usize) -> usize,
+) -> ReduceError {
+    match e {
+        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
+            interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
+            free: vec![dof_map.dof(equation(index))],
+        },
+        other => other.into(),
+    }
 }
 
 /// If the boundary rows of the rigid-body modes do not have full rank, some

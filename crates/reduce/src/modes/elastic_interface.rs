@@ -20,7 +20,8 @@
 //! The free body's products are the pencil's less the springs' (eq. 28:
 //! `T^T K T = T^T (K + C) T - T^T C T`).
 
-use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
+use super::attachment::unit_loads;
+use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
 use super::eigen::{dense_path, eigenmodes_in, eigenmodes_on, Band};
 use super::{complement, EigenModes, RigidModes};
 use crate::products::{Matrices, Products, Sprung};
@@ -134,7 +135,7 @@ pub(crate) fn constraint_modes_by_flexibility(
         x
     };
     let rows = |x: &Mat<f64>, eq: &[usize]| Mat::from_fn(eq.len(), s, |k, j| x[(eq[k], j)]);
-    let x = solve(unit_columns(n, boundary));
+    let x = solve(unit_loads(n, boundary));
     let x_h = rows(&x, boundary);
     let x_h = Mat::from_fn(s, s, |i, j| 0.5 * (x_h[(i, j)] + x_h[(j, i)]));
     let llt = x_h.llt(faer::Side::Lower).ok()?;
@@ -145,7 +146,7 @@ pub(crate) fn constraint_modes_by_flexibility(
         .to_owned();
     // The loads of the interior equations, K_NH, set the scale.
     let scale = interior_max(
-        &pencil.mul_stiffness(unit_columns(n, boundary).as_ref()),
+        &pencil.mul_stiffness(unit_loads(n, boundary).as_ref()),
         interior,
     );
     let equilibrium = |u_n: &Mat<f64>| {
@@ -202,15 +203,9 @@ fn held_constraint_modes(
     let hook = progress::global();
     let held = pencil
         .factorize_static(boundary, &*hook)
-        .map_err(|e| match e {
-            LinalgError::Singular { index, .. } => ReduceError::Mechanism {
-                interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
-                free: vec![dof_map.dof(index)],
-            },
-            other => other.into(),
-        })?;
+        .map_err(|e| mechanism_error(e, boundary, dof_map, |i| i))?;
     // -K_NH: the interface columns of K + C, interior rows.
-    let mut rhs = pencil.mul_stiffness(unit_columns(n, boundary).as_ref());
+    let mut rhs = pencil.mul_stiffness(unit_loads(n, boundary).as_ref());
     for j in 0..s {
         for &b in boundary {
             rhs[(b, j)] = 0.0;
@@ -275,13 +270,4 @@ fn regular_factor(
         Ok(_) | Err(LinalgError::Singular { .. }) => Ok(None),
         Err(e) => Err(e.into()),
     }
-}
-
-/// The columns of the identity at `boundary` (n x s).
-fn unit_columns(n: usize, boundary: &[usize]) -> Mat<f64> {
-    let mut e = Mat::zeros(n, boundary.len());
-    for (j, &b) in boundary.iter().enumerate() {
-        e[(b, j)] = 1.0;
-    }
-    e
 }

@@ -9,7 +9,7 @@
 //! two. Guyan's static condensation (no eigenmodes) takes the same path
 //! without the Lanczos run. Small models take the separate dense path.
 
-use super::constraint::{constraint_columns, constraint_modes, mechanism_check};
+use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
 use super::eigen::{eigenmodes_on, fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
 use super::{complement, expand, EigenModes, RigidModes};
 use crate::products::{Bordered, Matrices, Products};
@@ -19,7 +19,7 @@ use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::ShiftedPencil;
-use flexbody_linalg::{LinalgError, SparseMat};
+use flexbody_linalg::SparseMat;
 
 /// Constraint modes (m x s) and the fixed-interface eigenmodes of `band`
 /// (zero at the `boundary` equations).
@@ -75,13 +75,9 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     drop(matrices);
     let pencil = &bordered.pencil;
     let interior = &bordered.interior;
-    let k_factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
-            interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
-            free: vec![dof_map.dof(interior[index])],
-        },
-        other => other.into(),
-    })?;
+    let k_factor = pencil
+        .factorize_static(&[], &*hook)
+        .map_err(|e| mechanism_error(e, boundary, dof_map, |k| interior[k]))?;
     let mut u_n = -bordered.k_nb.to_dense();
     hook.report(&Stage::Solves {
         columns: boundary.len(),

@@ -13,6 +13,7 @@
 //! attachment modes and the Lanczos at shift 0 from the one factor of `K`.
 //! Small models take the separate dense path.
 
+use super::attachment::SUPPORTED_BODY;
 use super::eigen::{
     eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band, SPARSE_FROM,
 };
@@ -85,7 +86,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         // (eq. 18), and K's factor is the Lanczos operator at shift 0.
         let factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
             LinalgError::Singular { index, .. } => ReduceError::Singular {
-                what: "the stiffness matrix of the supported body",
+                what: SUPPORTED_BODY,
                 dof: dof_map.dof(index),
             },
             other => other.into(),
