@@ -38,6 +38,25 @@ impl EigenPairs {
     }
 }
 
+/// How many of the lowest `values` (ascending eigenvalues of one pencil)
+/// are round-off zeros. A zero comes out at round-off of eps lambda_max (or
+/// of a text file's digits), with either sign: the lowest counts as
+/// non-zero only above `1e-8 top` (`top` the largest eigenvalue known), any
+/// later one only a factor `gap` above every value before it.
+pub fn leading_zeros(values: &[f64], top: f64, gap: f64) -> usize {
+    (0..values.len())
+        .find(|&i| {
+            let v = values[i];
+            v > 0.0
+                && if i == 0 {
+                    v > 1e-8 * top.abs()
+                } else {
+                    v > gap * values[..i].iter().fold(0.0_f64, |a, b| a.max(b.abs()))
+                }
+        })
+        .unwrap_or(values.len())
+}
+
 /// `sqrt(lambda) / (2 pi)`, with round-off negatives of rigid-body modes
 /// shown as 0 Hz.
 pub fn frequency_hz(lambda: f64) -> f64 {
@@ -76,31 +95,37 @@ pub fn generalized_symmetric(
     // lowest elastic eigenvalue is far from it, a second pass shifted to its
     // size, which makes the low modes accurate relative to themselves.
     let mean = (trace_k / trace_m).max(f64::MIN_POSITIVE);
-    let sigma = -1e-6 * mean;
-    let first = shifted(k, m, sigma)?;
+    let mut sigma = -1e-6 * mean;
+    // K of only rigid-body modes (a reduced body without elastic modes) is
+    // itself round-off, with negative eigenvalues that may lie below a
+    // shift taken from its size: then the shift goes down until
+    // K - sigma M is positive definite.
+    let mut retries = 0;
+    let first = loop {
+        match shifted(k, m, sigma) {
+            Err(LinalgError::Singular { .. }) if retries < SHIFT_RETRIES => {
+                sigma *= 1e3;
+                retries += 1;
+            }
+            result => break result?,
+        }
+    };
     // The lowest elastic eigenvalue sets the second shift; round-off zeros
     // of rigid-body modes (slightly negative or positive, larger when K
-    // comes from a text file) must not.
-    // A zero eigenvalue comes out at round-off of eps lambda_max (or of the
-    // file's digits): the lowest may count as elastic only above
-    // 1e-8 lambda_max, any later one only a factor 1e6 above all before it.
+    // comes from a text file) must not. Here the gap is wide (1e6): taking
+    // a zero for elastic would put the second shift on round-off.
     let v = &first.values;
     let top = v.last().map_or(0.0, |x| x.abs());
-    let lowest_elastic = (0..v.len())
-        .find(|&i| {
-            v[i] > 0.0
-                && if i == 0 {
-                    v[0] > 1e-8 * top
-                } else {
-                    v[i] > 1e6 * v[..i].iter().fold(0.0_f64, |a, b| a.max(b.abs()))
-                }
-        })
-        .map(|i| v[i]);
+    let lowest_elastic = v.get(leading_zeros(v, top, 1e6)).copied();
     match lowest_elastic {
         Some(l) if !(1e-2..=1e2).contains(&(l / sigma.abs())) => shifted(k, m, -l),
         _ => Ok(first),
     }
 }
+
+/// How often the first shift moves down by 1e3 before a failed Cholesky
+/// factorisation is reported (1e3^8 = 1e24 below the first).
+const SHIFT_RETRIES: usize = 8;
 
 fn shifted(k: MatRef<'_, f64>, m: MatRef<'_, f64>, sigma: f64) -> Result<EigenPairs, LinalgError> {
     let n = k.nrows();
@@ -219,5 +244,45 @@ mod tests {
         for (a, b) in pairs.values.iter().zip(&exact.values).skip(1) {
             assert!((a - b - 1e-3).abs() < 1e-9 * b, "{a} vs {b}");
         }
+    }
+
+    #[test]
+    fn a_stiffness_of_round_off_moves_the_shift_down() {
+        // K of a body reduced to its rigid-body modes: R^T K R is round-off
+        // with a negative eigenvalue (-1e-12) far below the first shift
+        // (-1e-6 of trace K / trace M = -1e-18). Both eigenvalues come out.
+        let k = faer::mat![[1e-12, 2e-12], [2e-12, 1e-12]];
+        let m = Mat::<f64>::identity(2, 2);
+        let pairs = generalized_symmetric(k.as_ref(), m.as_ref()).unwrap();
+        assert_eq!(pairs.values.len(), 2);
+        assert!(
+            (pairs.values[0] + 1e-12).abs() < 1e-20,
+            "{:?}",
+            pairs.values
+        );
+        assert!(
+            (pairs.values[1] - 3e-12).abs() < 1e-20,
+            "{:?}",
+            pairs.values
+        );
+        assert_eq!(pairs.frequencies_hz()[0], 0.0);
+    }
+
+    #[test]
+    fn leading_zeros_are_round_off_below_a_gap() {
+        // Rigid-body zeros read from a text file, all positive (a CalculiX
+        // tet mesh): six zeros below the first elastic 2.5e8.
+        let text = [5.1e-5, 1.8e-4, 1.9e-4, 2.2e-4, 2.2e-4, 1.4e-3, 2.5e8];
+        assert_eq!(leading_zeros(&text, 2.5e8, 1e6), 6);
+        // A supported body: no zero.
+        assert_eq!(leading_zeros(&[3.0, 5.0, 9.0], 9.0, 1e6), 0);
+        // A stiff planar beam (stiffness over 13 decades): zeros at 27 and
+        // 73, the first elastic eigenvalue only 3.4e4 above them.
+        let stiff = [27.6, 73.2, 2.45e6, 1.86e7, 7.16e7, 1.96e8];
+        assert_eq!(leading_zeros(&stiff, 1e19, 1e3), 2);
+        // The wide gap takes them all for zeros.
+        assert_eq!(leading_zeros(&stiff, 1e19, 1e6), stiff.len());
+        // Signs of round-off do not matter; all zeros.
+        assert_eq!(leading_zeros(&[-1e-9, 2e-9, -3e-9], 1.0, 1e3), 3);
     }
 }

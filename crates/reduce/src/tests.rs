@@ -359,6 +359,53 @@ fn two_unconnected_beams_are_a_mechanism_of_the_free_body() {
 }
 
 #[test]
+fn a_body_of_its_rigid_modes_alone_has_zero_frequencies() {
+    // `free` with as many modes as rigid-body motions: K_red is round-off
+    // with negative eigenvalues, M_red the body's mass and inertia.
+    let model = l_frame();
+    let s = sub(&model);
+    let body = reduce(&s, &Reduction::new(Method::Free, 6, vec![])).unwrap();
+    let f = body.frequencies_hz().unwrap();
+    assert_eq!(f.len(), 6);
+    let elastic = reduce(&s, &Reduction::new(Method::Free, 7, vec![])).unwrap();
+    let first = elastic.frequencies_hz().unwrap()[6];
+    assert!(f.iter().all(|x| *x < 1e-4 * first), "{f:?} against {first}");
+}
+
+#[test]
+fn a_long_stiff_beam_is_no_mechanism() {
+    // 2100 planar beam elements of 1.2 mm under a 0.2 m section: the
+    // stiffness spans 13 decades, and the two rigid-body zeros come out at
+    // about 30 and 70 (1/s^2) against a first elastic eigenvalue of 2.45e6.
+    // Both free methods keep it, at the free-free Euler-Bernoulli beam's
+    // first frequency (beta L = 4.730041), to the round-off this
+    // conditioning allows.
+    let model = planar_beam(2100);
+    let p = props();
+    let (ei, rho_a) = (
+        p.material.youngs_modulus * p.section.iy,
+        p.material.density * p.section.area,
+    );
+    let beta_l: f64 = 4.730_040_744_862_704;
+    let exact =
+        beta_l.powi(2) / (2.0 * std::f64::consts::PI * 2.5_f64.powi(2)) * (ei / rho_a).sqrt();
+    let s = sub(&model);
+    for method in [Method::Free, Method::FreeResidual] {
+        let interface = vec![Dof::new(1, DofKind::Uz), Dof::new(2101, DofKind::Uz)];
+        let modes = if method == Method::Free { 4 } else { 2 };
+        let body = reduce(&s, &Reduction::new(method, modes, interface)).unwrap();
+        let f = body.frequencies_hz().unwrap();
+        // Rigid: lambda below 1e-4 of the first elastic one.
+        assert!(f[1] < 1e-2 * exact, "{method:?}: {f:?}");
+        assert!(
+            (f[2] - exact).abs() < 1e-5 * exact,
+            "{method:?}: {} vs {exact}",
+            f[2]
+        );
+    }
+}
+
+#[test]
 fn reduced_matrices_are_symmetric_and_orthonormalisation_keeps_the_spectrum() {
     let model = l_frame();
     let s = assemble(&model).unwrap();
