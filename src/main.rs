@@ -857,7 +857,8 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
     say!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
     let modes = match simulate::coupled_modes(&file, flexible) {
         Err(simulate::SimulationError::Mbs(
-            e @ flexbody::mbs::MbsError::TooLargeForDense { .. },
+            e @ (flexbody::mbs::MbsError::TooLargeForDense { .. }
+            | flexbody::mbs::MbsError::UnresolvedModes { .. }),
         )) => {
             say!("  not computed: {e}");
             say!("wrote {}", out.join("frf.csv").display());

@@ -66,6 +66,11 @@ pub fn frequency_hz(lambda: f64) -> f64 {
 /// All finite eigenpairs of `K x = lambda M x` for dense symmetric `K`
 /// (positive semi-definite) and `M` (positive semi-definite, `K + M`
 /// positive definite).
+///
+/// One shift-invert pass resolves about 13 decades of eigenvalues above its
+/// shift; stiffer modes (a reduced body whose residual modes carry masses
+/// 1e-17 of the rest) come out of [`complement`], and only truly massless
+/// directions stay unreturned.
 pub fn generalized_symmetric(
     k: MatRef<'_, f64>,
     m: MatRef<'_, f64>,
@@ -91,10 +96,20 @@ pub fn generalized_symmetric(
     if trace_m == 0.0 {
         return Err(LinalgError::NotPositiveDefinite { index: 0 });
     }
+    let found = lowest(k, m, trace_k / trace_m)?;
+    if found.values.len() == n {
+        return Ok(found);
+    }
+    Ok(complement(k, m, found))
+}
+
+/// The shift-invert solve: a first shift far below the mean eigenvalue
+/// `mean`, then one at the lowest elastic eigenvalue.
+fn lowest(k: MatRef<'_, f64>, m: MatRef<'_, f64>, mean: f64) -> Result<EigenPairs, LinalgError> {
     // First pass with a shift far below the mean eigenvalue; then, if the
     // lowest elastic eigenvalue is far from it, a second pass shifted to its
     // size, which makes the low modes accurate relative to themselves.
-    let mean = (trace_k / trace_m).max(f64::MIN_POSITIVE);
+    let mean = mean.max(f64::MIN_POSITIVE);
     let mut sigma = -1e-6 * mean;
     // K of only rigid-body modes (a reduced body without elastic modes) is
     // itself round-off, with negative eigenvalues that may lie below a
@@ -120,6 +135,70 @@ pub fn generalized_symmetric(
     match lowest_elastic {
         Some(l) if !(1e-2..=1e2).contains(&(l / sigma.abs())) => shifted(k, m, -l),
         _ => Ok(first),
+    }
+}
+
+/// The eigenpairs that one shift-invert pass left out, added to `found`:
+/// the eigenvectors still missing are M-orthogonal to the found ones `X`,
+/// so they lie in the null space of `X^T M`. In coordinates scaled by
+/// `D = diag(M)^-1/2` (a mass of 1e-17 becomes 1 there, and so visible
+/// above round-off) an orthonormal basis `Q` of that null space gives the
+/// small pencil `(Q^T K' Q, Q^T M' Q)`. Its mass directions below
+/// round-off are massless and dropped; on the others `M'` is made the
+/// identity and `K'` diagonalised: a standard symmetric eigenproblem.
+fn complement(k: MatRef<'_, f64>, m: MatRef<'_, f64>, found: EigenPairs) -> EigenPairs {
+    let n = k.nrows();
+    let kept = found.values.len();
+    let positive: Vec<f64> = (0..n).map(|i| m[(i, i)]).filter(|&d| d > 0.0).collect();
+    let mean = positive.iter().sum::<f64>() / positive.len().max(1) as f64;
+    let d: Vec<f64> = (0..n)
+        .map(|i| 1.0 / if m[(i, i)] > 0.0 { m[(i, i)] } else { mean }.sqrt())
+        .collect();
+    let ms = Mat::from_fn(n, n, |i, j| d[i] * m[(i, j)] * d[j]);
+    let ks = Mat::from_fn(n, n, |i, j| d[i] * k[(i, j)] * d[j]);
+    // D M X = M' X' with X' = D^-1 X: its range is orthogonal to the null
+    // space sought; the last n - kept columns of a full QR span that.
+    let mx = m * &found.vectors;
+    let mx = Mat::from_fn(n, kept, |i, j| d[i] * mx[(i, j)]);
+    let q = mx.qr().compute_Q();
+    let q = q.subcols(kept, n - kept);
+    let mut mq = q.transpose() * &ms * q;
+    crate::sparse::symmetrize(&mut mq);
+    let Ok(mass) = mq.self_adjoint_eigen(Side::Lower) else {
+        return found;
+    };
+    let s = mass.S();
+    let scale = (0..n).map(|i| ms[(i, i)]).fold(0.0_f64, f64::max);
+    let massive: Vec<usize> = (0..n - kept)
+        .filter(|&i| s[i] > 1e-13 * n as f64 * scale)
+        .collect();
+    if massive.is_empty() {
+        return found;
+    }
+    // Z = Q V S^-1/2: Z^T M' Z = I.
+    let qv = q * mass.U();
+    let z = Mat::from_fn(n, massive.len(), |i, j| {
+        qv[(i, massive[j])] / s[massive[j]].sqrt()
+    });
+    let mut a = z.transpose() * &ks * &z;
+    crate::sparse::symmetrize(&mut a);
+    let Ok(stiff) = a.self_adjoint_eigen(Side::Lower) else {
+        return found;
+    };
+    let y = &z * stiff.U();
+    let mut pairs: Vec<(f64, usize)> = (0..kept).map(|j| (found.values[j], j)).collect();
+    pairs.extend((0..massive.len()).map(|j| (stiff.S()[j], kept + j)));
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let column = |i: usize, c: usize| {
+        if c < kept {
+            found.vectors[(i, c)]
+        } else {
+            d[i] * y[(i, c - kept)]
+        }
+    };
+    EigenPairs {
+        values: pairs.iter().map(|p| p.0).collect(),
+        vectors: Mat::from_fn(n, pairs.len(), |i, j| column(i, pairs[j].1)),
     }
 }
 
@@ -266,6 +345,41 @@ mod tests {
             pairs.values
         );
         assert_eq!(pairs.frequencies_hz()[0], 0.0);
+    }
+
+    #[test]
+    fn modes_stiffer_than_one_pass_resolves_come_from_the_complement() {
+        // Two ordinary modes (1 and 4) and a block as of a reduced body's
+        // residual modes: masses 1e-17, nearly equal, stiffness 1e-9. Its
+        // eigenvalues 1e-9 / (2e-17) = 5e7 and 1e-9 / 1e-25 = 1e16 lie 16
+        // decades above the lowest, beyond one shift-invert pass.
+        let e = 1e-8;
+        let m = faer::mat![
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1e-17, 1e-17 * (1.0 - e)],
+            [0.0, 0.0, 1e-17 * (1.0 - e), 1e-17],
+        ];
+        let k = faer::mat![
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 4.0, 0.0, 0.0],
+            [0.0, 0.0, 1e-9, 0.0],
+            [0.0, 0.0, 0.0, 1e-9],
+        ];
+        let pairs = generalized_symmetric(k.as_ref(), m.as_ref()).unwrap();
+        let exact = [1.0, 4.0, 1e-9 / (1e-17 * (2.0 - e)), 1e-9 / (1e-17 * e)];
+        assert_eq!(pairs.values.len(), 4, "{:?}", pairs.values);
+        for (l, x) in pairs.values.iter().zip(exact) {
+            assert!((l - x).abs() < 1e-7 * x, "{l} vs {x}");
+        }
+        for j in 0..4 {
+            let x = pairs.vectors.col(j);
+            let r = &k * x - &m * x * faer::Scale(pairs.values[j]);
+            assert!(r.norm_l2() < 1e-7 * (&k * x).norm_l2(), "mode {j}");
+        }
+        let xtmx = pairs.vectors.transpose() * &m * &pairs.vectors;
+        let unit = Mat::<f64>::identity(4, 4);
+        assert!((xtmx - unit).norm_max() < 1e-7);
     }
 
     #[test]

@@ -53,11 +53,13 @@ pub fn damped_modes(system: &System) -> Result<Vec<DampedMode>, MbsError> {
     }
     let undamped = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
     if undamped.values.len() != n {
-        // Massless coordinates: infinite eigenvalues, not a damped system of
-        // this size.
-        return Err(MbsError::Linalg(LinalgError::NotPositiveDefinite {
-            index: 0,
-        }));
+        // Massless coordinates (infinite eigenvalues) or a spectrum wider
+        // than the dense solver resolves: the modal damping matrix below
+        // would miss coordinates.
+        return Err(MbsError::UnresolvedModes {
+            found: undamped.values.len(),
+            coordinates: n,
+        });
     }
     let phi = &undamped.vectors;
     let omega: Vec<f64> = undamped.values.iter().map(|l| l.max(0.0).sqrt()).collect();
@@ -167,5 +169,47 @@ mod tests {
             MbsError::TooLargeForDense { coordinates, limit } if coordinates == n && limit == DENSE_LIMIT
         ));
         assert!(err.to_string().contains("reduce the body first"));
+    }
+
+    #[test]
+    fn a_massless_coordinate_is_named_not_a_failed_factorisation() {
+        // A body without rotary inertia pitching on two springs: the pitch
+        // has stiffness but no mass, an infinite eigenvalue.
+        let spring = |name: &str, x: f64| {
+            Connection::linear(
+                name,
+                Endpoint::Ground,
+                Endpoint::Rigid {
+                    body: 0,
+                    point: [x, 0.0, 0.0],
+                },
+                [0.0, 0.0, 1.0],
+                1e5,
+                10.0,
+            )
+        };
+        let s = System {
+            rigid: vec![RigidBody {
+                name: "m".into(),
+                mass: 2.0,
+                inertia: [0.0; 6],
+                center: [0.0; 3],
+                active: vec![DofKind::Uz, DofKind::Ry],
+            }],
+            connections: vec![spring("front", 1.0), spring("rear", -1.0)],
+            ..Default::default()
+        };
+        let err = damped_modes(&s).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                MbsError::UnresolvedModes {
+                    found: 1,
+                    coordinates: 2
+                }
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("massless"), "{err}");
     }
 }

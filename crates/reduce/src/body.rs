@@ -108,9 +108,17 @@ impl ReducedBody {
             )));
         }
         let pairs = generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?;
+        // Massless directions of M_red have no mode and stay undamped.
+        let modes = pairs.values.len();
+        if ratios.len() != 1 && modes != r {
+            return Err(LinalgError::Dimension(format!(
+                "{r} modal damping ratios, but the reduced body has {modes} modes with mass \
+                 (the others are massless): give one ratio for all"
+            )));
+        }
         let x = &pairs.vectors;
         let mx = &self.mass * x;
-        let diag = Mat::from_fn(r, r, |i, j| {
+        let diag = Mat::from_fn(modes, modes, |i, j| {
             if i == j {
                 let zeta = if ratios.len() == 1 {
                     ratios[0]

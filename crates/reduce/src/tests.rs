@@ -520,3 +520,40 @@ fn matrices_without_geometry_reduce_to_the_same_body() {
         Substructure::from_matrices(s.dof_map.clone(), s.matrices.clone(), Default::default());
     assert_eq!(free_body_rigid_modes(&bare).unwrap().count(), 0);
 }
+
+#[test]
+fn modal_damping_of_residual_modes_at_close_interface_nodes() {
+    // Five interface DOFs, four of them within 17 mm at one end of the
+    // 2100-element beam: their residual inertia-relief modes are nearly
+    // alike, with masses 1e-17 of the beam's and eigenvalues up to 7e13
+    // (1/s^2), 13 decades above the first elastic one. One combination
+    // has a mass at round-off: it has no mode and stays undamped, every
+    // other mode gets its ratio.
+    let model = planar_beam(2100);
+    let interface = uz(&[1, 2101, 7, 15, 11]);
+    let body = reduce(
+        &sub(&model),
+        &Reduction::new(Method::FreeResidual, 1, interface),
+    )
+    .unwrap();
+    assert_eq!(body.r(), 8);
+    let pairs =
+        flexbody_linalg::eigen::generalized_symmetric(body.stiffness.as_ref(), body.mass.as_ref())
+            .unwrap();
+    assert_eq!(pairs.values.len(), 7, "{:?}", pairs.values);
+    assert!(pairs.values[6] > 1e13, "{:?}", pairs.values);
+    let zeta = 0.02;
+    let damped = body.with_modal_damping(&[zeta]).unwrap();
+    let x = &pairs.vectors;
+    let modal = x.transpose() * damped.damping.as_ref().unwrap() * x;
+    for (i, l) in pairs.values.iter().enumerate() {
+        let want = 2.0 * zeta * l.max(0.0).sqrt();
+        assert!(
+            (modal[(i, i)] - want).abs() < 1e-3 * want + 1e-12,
+            "mode {i}: {} vs {want}",
+            modal[(i, i)]
+        );
+    }
+    let err = body.with_modal_damping(&[zeta; 8]).unwrap_err();
+    assert!(err.to_string().contains("7 modes with mass"), "{err}");
+}
