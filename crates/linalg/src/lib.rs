@@ -60,6 +60,8 @@ pub enum LinalgError {
         bound: String,
     },
     /// faer could not complete an operation (out of memory, index overflow).
+    #[error("the mass matrix resolves {modes} modes for {coordinates} coordinates: the others combine to a mass at round-off (nearly dependent Ritz vectors, such as residual modes of interface nodes close together)")]
+    MasslessDirections { modes: usize, coordinates: usize },
     #[error("linear algebra failure: {0}")]
     Faer(String),
 }

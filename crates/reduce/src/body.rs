@@ -93,7 +93,9 @@ impl ReducedBody {
     /// frequency) give `D_red += M_red X diag(2 zeta_i omega_i) X^T M_red`
     /// with `X` the M_red-orthonormal eigenvectors of the reduced body, so
     /// that mode i of the free reduced body has ratio zeta_i (rigid-body
-    /// modes, omega = 0, stay undamped).
+    /// modes, omega = 0, stay undamped). Directions of `M_red` with a mass
+    /// at round-off have no mode and stay undamped; then only one ratio
+    /// for all can be given.
     pub fn with_modal_damping(&self, ratios: &[f64]) -> Result<ReducedBody, LinalgError> {
         let r = self.r();
         if ratios.len() != 1 && ratios.len() != r {
@@ -108,13 +110,12 @@ impl ReducedBody {
             )));
         }
         let pairs = generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?;
-        // Massless directions of M_red have no mode and stay undamped.
         let modes = pairs.values.len();
         if ratios.len() != 1 && modes != r {
-            return Err(LinalgError::Dimension(format!(
-                "{r} modal damping ratios, but the reduced body has {modes} modes with mass \
-                 (the others are massless): give one ratio for all"
-            )));
+            return Err(LinalgError::MasslessDirections {
+                modes,
+                coordinates: r,
+            });
         }
         let x = &pairs.vectors;
         let mx = &self.mass * x;
@@ -143,11 +144,18 @@ impl ReducedBody {
     /// The same body in an orthonormal basis: `M_red = I`, `K_red` diagonal
     /// (the reduced eigenproblem `K_red x = w^2 M_red x` solved and `T`
     /// rotated by its eigenvectors). The span, and so every response, is
-    /// unchanged; each column keeps its frequency.
+    /// unchanged; each column keeps its frequency. A basis with directions
+    /// of no mass has no such form: an error.
     pub fn orthonormalized(&self) -> Result<ReducedBody, LinalgError> {
         let pairs = generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?;
         let x = &pairs.vectors;
         let r = x.ncols();
+        if r != self.r() {
+            return Err(LinalgError::MasslessDirections {
+                modes: r,
+                coordinates: self.r(),
+            });
+        }
         let basis = &self.basis * x;
         let mass = Mat::from_fn(r, r, |i, j| if i == j { 1.0 } else { 0.0 });
         let stiffness = Mat::from_fn(r, r, |i, j| if i == j { pairs.values[i] } else { 0.0 });
