@@ -69,8 +69,8 @@ pub fn frequency_hz(lambda: f64) -> f64 {
 ///
 /// One shift-invert pass resolves about 13 decades of eigenvalues above its
 /// shift; stiffer modes (a reduced body whose residual modes carry masses
-/// 1e-17 of the rest) come out of a pass on the complement of the found ones, and only truly massless
-/// directions stay unreturned.
+/// 1e-17 of the rest) come out of a pass on the complement of the found
+/// ones, and only directions of round-off mass stay unreturned.
 pub fn generalized_symmetric(
     k: MatRef<'_, f64>,
     m: MatRef<'_, f64>,
