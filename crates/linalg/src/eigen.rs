@@ -351,8 +351,9 @@ mod tests {
     fn modes_stiffer_than_one_pass_resolves_come_from_the_complement() {
         // Two ordinary modes (1 and 4) and a block as of a reduced body's
         // residual modes: masses 1e-17, nearly equal, stiffness 1e-9. Its
-        // eigenvalues 1e-9 / (2e-17) = 5e7 and 1e-9 / 1e-25 = 1e16 lie 16
-        // decades above the lowest, beyond one shift-invert pass.
+        // eigenvalues are 1e-9 / (2e-17) = 5e7 and 1e-9 / 1e-25 = 1e16, the
+        // latter 16 decades above the lowest, beyond one shift-invert pass.
+        // The data fix the small mass difference to eps / e = 2e-8.
         let e = 1e-8;
         let m = faer::mat![
             [1.0, 0.0, 0.0, 0.0],
