@@ -417,6 +417,28 @@ fn a_factor_beyond_max_memory_is_refused_before_factorising() {
 }
 
 #[test]
+fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
+    // 400 modes of the 1668-DOF solid side beam take the sparse solver
+    // with a basis of 1264 vectors (17 MB), its factor 1.5 MB. A budget
+    // of 25.6 MiB leaves room for the factor, not for both: refused,
+    // naming the modes and vectors.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = model.to_str().unwrap();
+    fails_with(
+        &["--max-memory", "0.025", "modes", model, "--count", "400"],
+        &[
+            "a Lanczos run for 400 modes (1264 vectors of 1668 equations, \
+             with the LDL^T factor's 1.5 MiB) needs",
+            "(--max-memory 25.6 MiB with",
+        ],
+    );
+    // Fewer modes fit the same budget.
+    let o = flexbody(&["--max-memory", "0.025", "modes", model, "--count", "10"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
 fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
     // The solid side beam: ordering, factorisations and Lanczos steps of the
     // sparse solver, then the reduced body's size before its output.

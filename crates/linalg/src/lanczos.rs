@@ -263,6 +263,8 @@ pub fn lanczos_on(
             count
         }
     };
+    let known = held.as_ref().map_or(0, |h| h.held.rigid.ncols());
+    op.ensure_room(nev.saturating_sub(known), params)?;
     op.factorize()?;
     if nev == 0 {
         stats.factorization_seconds = op.factorization_seconds;
@@ -507,6 +509,43 @@ impl Operator<'_> {
             )));
         }
         Ok(f)
+    }
+
+    /// Refuses, before the factorisation, a run for `nev` eigenpairs whose
+    /// basis (with the factor, if its storage is still to be taken)
+    /// exceeds the memory left: many modes of a large model fail at once,
+    /// not at the kernel's out-of-memory kill after the factorisation. The
+    /// basis, its working blocks (4) and the converged vectors count.
+    fn ensure_room(&self, nev: usize, params: &LanczosParams) -> Result<(), LinalgError> {
+        let n = self.pencil.dim();
+        let entries = self.pencil.factor_len();
+        let resident = if self.factor.is_some() {
+            entries
+        } else {
+            self.spare.len().min(entries)
+        };
+        crate::memory::ensure_factor_room(n, entries, resident)?;
+        let (b, p_max) = basis_shape(nev, n, params);
+        let vectors = p_max + 4 * b + nev;
+        let size = std::mem::size_of::<f64>();
+        let (basis, factor) = (n * vectors * size, (entries - resident) * size);
+        if basis < 1 << 20 {
+            return Ok(());
+        }
+        let with_factor = if factor > 0 {
+            format!(
+                ", with the LDL^T factor's {}",
+                crate::memory::bytes_text(factor as u64)
+            )
+        } else {
+            String::new()
+        };
+        crate::memory::ensure_room(
+            (basis + factor) as u64,
+            &format!(
+                "a Lanczos run for {nev} modes ({vectors} vectors of {n} equations{with_factor})"
+            ),
+        )
     }
 
     /// Eigenvalues below `bound` by the inertia of `K - bound M`, in the
@@ -772,6 +811,19 @@ fn gram_schmidt_block(
     r
 }
 
+/// The block size and the largest basis of a run for `nev` eigenpairs in
+/// `free` dimensions.
+fn basis_shape(nev: usize, free: usize, params: &LanczosParams) -> (usize, usize) {
+    let b = params.block_size.max(1).min(free.max(1));
+    let p_max = if params.basis_size > 0 {
+        params.basis_size.max(nev + 2 * b)
+    } else {
+        2 * nev + 4 * b
+    }
+    .min(free);
+    (b, p_max)
+}
+
 /// One thick-restart block Lanczos run for the `nev` largest `theta` of
 /// `OP` deflated by `locked`; returns every converged Ritz pair (at least
 /// the `nev` wanted ones).
@@ -788,13 +840,7 @@ fn krylov_schur(
     let pencil = op.pencil;
     let n = pencil.dim();
     let free = n - locked.x.ncols();
-    let b = params.block_size.max(1).min(free.max(1));
-    let p_max = if params.basis_size > 0 {
-        params.basis_size.max(nev + 2 * b)
-    } else {
-        2 * nev + 4 * b
-    }
-    .min(free);
+    let (b, p_max) = basis_shape(nev, free, params);
     if p_max < nev + b && p_max < free {
         return Err(LinalgError::Dimension(format!(
             "{nev} eigenpairs of a {n}-equation model: too many for Lanczos"
