@@ -41,11 +41,11 @@ struct Cli {
     /// Lanczos steps, solves) with its time on stderr.
     #[arg(long, short, global = true)]
     verbose: bool,
-    /// Refuse a sparse factorisation whose factor alone would take this
-    /// process beyond this many GiB (2^30 bytes) of resident memory,
-    /// before any of it is stored (the solver's other arrays come on top).
-    /// The machine's available memory and the cgroup's limit are always
-    /// checked this way.
+    /// Refuse a sparse factorisation whose factor (with, before an eigen
+    /// solve, the Lanczos basis) would take this process beyond this many
+    /// GiB (2^30 bytes) of resident memory, before any of it is stored
+    /// (the solver's other arrays come on top). The machine's available
+    /// memory and the cgroup's limit are always checked this way.
     #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
     max_memory: Option<u64>,
     #[command(subcommand)]

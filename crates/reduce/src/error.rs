@@ -47,6 +47,17 @@ pub enum ReduceError {
     SupportNotDeterminate(Vec<Dof>),
     #[error("{requested} eigenmodes requested but the model has only {available}")]
     NotEnoughModes { requested: usize, available: usize },
+    #[error(
+        "method {method} with {modes} eigenmodes has {} Ritz vectors ({others} besides the eigenmodes), more than the model's {dofs} DOFs: they cannot be independent; ask for at most {} eigenmodes, or a lower fmax",
+        .modes + .others,
+        .dofs.saturating_sub(*.others)
+    )]
+    BasisBeyondModel {
+        method: &'static str,
+        modes: usize,
+        others: usize,
+        dofs: usize,
+    },
     #[error("the free body has {zero} zero-frequency modes but only {rigid} rigid-body modes: it contains a mechanism")]
     FreeMechanism { zero: usize, rigid: usize },
     #[error("method {0} needs interface DOFs; none are given")]
@@ -66,7 +77,7 @@ pub enum ReduceError {
     #[error("both a number of modes ({0}) and a frequency band are given; give one")]
     ModesAndBand(usize),
     #[error(
-        "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); the sparse Lanczos solver is not built yet"
+        "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); use the sparse solver (EigenSolver::Sparse or Auto)"
     )]
     TooLargeForDense { dofs: usize, limit: usize },
     #[error(transparent)]

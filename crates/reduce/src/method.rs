@@ -181,7 +181,43 @@ fn check(sub: &Substructure, spec: &Reduction) -> Result<Checked, ReduceError> {
     if spec.max_frequency_hz.is_some() && spec.modes > 0 {
         return Err(ReduceError::ModesAndBand(spec.modes));
     }
+    let others = other_columns(spec, boundary.len(), rigid.count());
+    if spec.max_frequency_hz.is_none() {
+        fits_model(spec, spec.modes, others, sub.dof_map.len())?;
+    }
     Ok(Checked { boundary, rigid })
+}
+
+/// Columns of a method's basis besides its eigenmodes: constraint modes
+/// (Craig-Bampton, Guyan, elastic-residual) or rigid-body and residual
+/// inertia-relief modes (free-residual), one per interface DOF or force
+/// group.
+fn other_columns(spec: &Reduction, interface: usize, rigid: usize) -> usize {
+    match spec.method {
+        Method::Free => 0,
+        Method::CraigBampton | Method::Guyan | Method::ElasticResidual => interface,
+        Method::FreeResidual if spec.force_groups.is_empty() => rigid + interface,
+        Method::FreeResidual => rigid + spec.force_groups.len(),
+    }
+}
+
+/// A basis of more columns than the model has DOFs is dependent: its
+/// `M_red` singular, its residual modes (partly) zero.
+fn fits_model(
+    spec: &Reduction,
+    modes: usize,
+    others: usize,
+    dofs: usize,
+) -> Result<(), ReduceError> {
+    if modes + others > dofs {
+        return Err(ReduceError::BasisBeyondModel {
+            method: spec.method.name(),
+            modes,
+            others,
+            dofs,
+        });
+    }
+    Ok(())
 }
 
 /// [`reduce`] on `K` and `M` lent or handed over; `sub` gives the DOFs,
@@ -276,6 +312,12 @@ fn reduce_from(
                 Band::Lowest(_) => spec.modes,
                 Band::BelowHz(_) => all.values.len().saturating_sub(nr),
             };
+            if all.values.len() < nr + e {
+                return Err(ReduceError::NotEnoughModes {
+                    requested: e,
+                    available: all.values.len().saturating_sub(nr),
+                });
+            }
             let mut phi = all.slice(nr, nr + e);
             // Exact M-orthogonality to the geometric rigid-body modes.
             phi.vectors = products.residual_modes(&phi.vectors, &rigid.vectors);
@@ -308,6 +350,14 @@ fn reduce_from(
             )
         }
     };
+    // A band's modes are known only now.
+    let others = other_columns(spec, boundary.len(), rigid.count());
+    fits_model(
+        spec,
+        basis.ncols().saturating_sub(others),
+        others,
+        map.len(),
+    )?;
     let body = ReducedBody {
         method: spec.method,
         dof_map: map.clone(),

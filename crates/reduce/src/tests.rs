@@ -489,6 +489,62 @@ fn free_residual_frequencies_bound_the_full_model_from_above() {
 }
 
 #[test]
+fn a_basis_as_large_as_the_model_is_exact_and_a_larger_one_refused() {
+    // The planar beam of 4 elements: 10 DOFs, 2 rigid-body modes, the
+    // interface uz at both ends. Free-residual's 2 rigid, 2 residual and
+    // 6 eigenmodes, and Craig-Bampton's 2 constraint and 8 eigenmodes,
+    // span the whole space: the reduced frequencies are the full model's.
+    // One eigenmode more would make the basis dependent.
+    let model = planar_beam(4);
+    let s = assemble(&model).unwrap();
+    let n = s.stiffness.nrows();
+    assert_eq!(n, 10);
+    let full = eigenmodes(&s.stiffness, &s.mass, n)
+        .unwrap()
+        .frequencies_hz();
+    for (method, others) in [(Method::FreeResidual, 4), (Method::CraigBampton, 2)] {
+        let spec = |modes| Reduction::new(method, modes, uz(&[1, 5]));
+        let body = reduce(&sub(&model), &spec(n - others)).unwrap();
+        assert_eq!(body.r(), n);
+        let red = body.frequencies_hz().unwrap();
+        for (r, f) in red.iter().zip(&full).skip(2) {
+            assert!((r - f).abs() < 1e-9 * f, "{method:?}: {r} vs {f}");
+        }
+        let err = reduce(&sub(&model), &spec(n - others + 1)).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ReduceError::BasisBeyondModel { modes, others: o, dofs: 10, .. }
+                    if modes == n - others + 1 && o == others
+            ),
+            "{err}"
+        );
+        let text = err.to_string();
+        assert!(
+            text.contains(&format!("at most {} eigenmodes", n - others)),
+            "{text}"
+        );
+    }
+    // A band takes all 8 elastic modes: free-residual's 12 columns are
+    // refused once the band's modes are known.
+    let mut band = Reduction::new(Method::FreeResidual, 0, uz(&[1, 5]));
+    band.max_frequency_hz = Some(1e9);
+    let err = reduce(&sub(&model), &band).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ReduceError::BasisBeyondModel {
+                modes: 8,
+                others: 4,
+                dofs: 10,
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
 fn matrices_without_geometry_reduce_to_the_same_body() {
     // Rigid-body modes from the null space of K instead of eq. 12: the same
     // span, so the same reduced frequencies.
