@@ -332,6 +332,49 @@ fn a_closed_stdout_ends_the_program_quietly() {
 }
 
 #[test]
+fn many_modes_of_the_solid_converge_to_the_dense_ones() {
+    // 200 of the 1668 modes of the solid side beam take the sparse Lanczos
+    // solver (12 % of the spectrum, stiffness over 4 decades of theta);
+    // 1000 take the dense one. Before converged Ritz pairs were locked the
+    // Lanczos run lost and found them again until its step limit; before
+    // free-residual chose its solver by the mode count, 1500 modes took
+    // minutes there.
+    let model =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let run = |count: &str| -> (Vec<f64>, Vec<f64>) {
+        let o = flexbody(&["modes", model.to_str().unwrap(), "--json", "--count", count]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let get = |k: &str| serde_json::from_value(doc[k].clone()).unwrap();
+        (get("frequencies_hz"), get("residuals"))
+    };
+    let (sparse, residuals) = run("200");
+    let (dense, _) = run("1000");
+    assert_eq!(sparse.len(), 200);
+    // The highest modes converge at the round-off floor of the run (64 eps
+    // times the largest theta, 1e-10 of theta_200): 1.4e-9 apart at most.
+    for (a, b) in sparse.iter().zip(&dense).skip(6) {
+        assert!((a - b).abs() <= 1e-8 * b, "{a} vs {b}");
+    }
+    assert!(residuals.iter().all(|r| *r < 1e-3), "{residuals:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("body.json");
+    let o = flexbody(&[
+        "reduce",
+        model.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "1500",
+        "--out",
+        out.to_str().unwrap(),
+        "--check",
+        "never",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
 fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
     // The solid side beam (1668 DOFs, the sparse solver): --fmax 700 Hz
     // gives exactly the modes of --count 12 that lie below 700 Hz.

@@ -15,7 +15,10 @@
 //! so convergence (`<= tolerance * theta_i`) is read off without touching
 //! `K`. When the basis is full, it is contracted to the best Ritz vectors
 //! plus `Q` (thick restart) and the Krylov relation continues with an
-//! arrowhead `H`. A block of `b` vectors finds eigenvalues of multiplicity up
+//! arrowhead `H`; the converged wanted Ritz vectors are locked there (their
+//! couplings set to zero, out of the Rayleigh-Ritz problem), so that a run
+//! for hundreds of modes does not lose converged ones to round-off while
+//! it refines the rest. A block of `b` vectors finds eigenvalues of multiplicity up
 //! to `b` (the 6 rigid-body modes of a free body, the pairs of a square
 //! section) in one run.
 //!
@@ -860,6 +863,14 @@ fn krylov_schur(
     // each is written when `c` moves past it.
     unsafe { v.set_dims(n, p_max) };
     let mut h = Mat::<f64>::zeros(p_max, p_max);
+    // The first `nl` columns hold converged wanted Ritz vectors since the
+    // last restart (locking): their couplings in `H` are exactly zero and
+    // they leave the Rayleigh-Ritz problem, so that round-off of later
+    // steps (some eps theta_max, near the tolerance of modes far below
+    // theta_max) and mixing with close unconverged values cannot take them
+    // out of convergence again. Every new block is still projected
+    // against them.
+    let mut nl = 0usize;
     let lk = locked.x.as_ref();
 
     // Start block: OP applied to random vectors (in the range of OP).
@@ -944,8 +955,9 @@ fn krylov_schur(
         }
         for j in 0..blk {
             for i in 0..c {
-                h[(i, e + j)] = coef[(i, j)];
-                h[(e + j, i)] = coef[(i, j)];
+                let x = if i < nl { 0.0 } else { coef[(i, j)] };
+                h[(i, e + j)] = x;
+                h[(e + j, i)] = x;
             }
         }
         for j in 0..blk {
@@ -972,21 +984,27 @@ fn krylov_schur(
             }
             c += blk;
         }
-        // Rayleigh-Ritz on the expanded part.
+        // Rayleigh-Ritz on the expanded part past the locked columns;
+        // those are Ritz pairs themselves (unit vectors, `theta = H_jj`).
         let evd = h
-            .submatrix(0, 0, e, e)
+            .submatrix(nl, nl, e - nl, e - nl)
             .self_adjoint_eigen(Side::Lower)
             .map_err(|err| LinalgError::Faer(format!("{err:?}")))?;
-        let s = evd.S();
-        let u = evd.U();
+        let u = Mat::from_fn(e, e, |r, j| match (r < nl, j < nl) {
+            (true, true) => f64::from(r == j),
+            (false, false) => evd.U()[(r - nl, j - nl)],
+            _ => 0.0,
+        });
+        let value = |j: usize| if j < nl { h[(j, j)] } else { evd.S()[j - nl] };
         // Descending theta.
-        let idx: Vec<usize> = (0..e).rev().collect();
-        let theta: Vec<f64> = idx.iter().map(|&i| s[i]).collect();
+        let mut idx: Vec<usize> = (0..e).collect();
+        idx.sort_by(|&a, &b| value(b).total_cmp(&value(a)));
+        let theta: Vec<f64> = idx.iter().map(|&i| value(i)).collect();
         let last = u.subrows(e_prev, blk);
         let estimate: Vec<f64> = idx
             .iter()
             .map(|&i| {
-                if e >= free {
+                if e >= free || i < nl {
                     0.0
                 } else {
                     (bmat.as_ref() * last.col(i)).norm_l2()
@@ -1017,19 +1035,24 @@ fn krylov_schur(
             });
         }
         if full {
-            // Thick restart: the best Ritz vectors plus the residual block.
+            // Thick restart: the best Ritz vectors plus the residual block,
+            // the converged wanted ones first and locked.
             let kk = restart_size.min(e);
             stats.restarts += 1;
-            let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[j])]);
+            let mut keep: Vec<usize> = (0..kk).filter(|&j| j < nev && conv[j]).collect();
+            nl = keep.len();
+            keep.extend((0..kk).filter(|&j| !(j < nev && conv[j])));
+            let y = Mat::from_fn(e, kk, |r, j| u[(r, idx[keep[j]])]);
             rotate_in_place(&mut v, e, y.as_ref());
             tall::copy(v.subcols_mut(kk, blk), w.as_ref());
             h.fill(0.0);
             let coupling = bmat.as_ref() * y.subrows(e_prev, blk);
             for j in 0..kk {
-                h[(j, j)] = theta[j];
+                h[(j, j)] = theta[keep[j]];
                 for i in 0..blk {
-                    h[(kk + i, j)] = coupling[(i, j)];
-                    h[(j, kk + i)] = coupling[(i, j)];
+                    let x = if j < nl { 0.0 } else { coupling[(i, j)] };
+                    h[(kk + i, j)] = x;
+                    h[(j, kk + i)] = x;
                 }
             }
             e = kk;

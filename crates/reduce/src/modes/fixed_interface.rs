@@ -10,7 +10,7 @@
 //! without the Lanczos run. Small models take the separate dense path.
 
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
-use super::eigen::{eigenmodes_on, fixed_interface_eigenmodes_in, Band, SPARSE_FROM};
+use super::eigen::{dense_path, eigenmodes_on, fixed_interface_eigenmodes_in, Band};
 use super::{complement, expand, EigenModes, RigidModes};
 use crate::products::{Bordered, Matrices, Products};
 use crate::ReduceError;
@@ -48,7 +48,8 @@ pub(crate) fn craig_bampton_modes_from<'a>(
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    if interior.len() < SPARSE_FROM {
+    // Small interiors, and a quarter of all modes or more: dense.
+    if dense_path(interior.len(), band) {
         let (stiffness, mass) = (matrices.k(), matrices.m());
         return Ok((
             constraint_modes(stiffness, boundary, dof_map, rigid)?,

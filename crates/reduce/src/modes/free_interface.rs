@@ -15,7 +15,7 @@
 
 use super::attachment::SUPPORTED_BODY;
 use super::eigen::{
-    eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band, SPARSE_FROM,
+    dense_path, eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band,
 };
 use super::inertia_relief::{
     check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
@@ -64,7 +64,8 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
         within => within,
     };
-    if n < SPARSE_FROM {
+    // Small models, and a quarter of all modes or more: dense.
+    if dense_path(n, at_least(band)) {
         let (stiffness, mass) = (matrices.k(), matrices.m());
         let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)?;
         let mut all = eigenmodes_in(stiffness, mass, at_least(band))?;
