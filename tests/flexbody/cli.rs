@@ -357,21 +357,32 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
         assert!((a - b).abs() <= 1e-8 * b, "{a} vs {b}");
     }
     assert!(residuals.iter().all(|r| *r < 1e-3), "{residuals:?}");
+    // Free-residual keeps its 200 eigenmodes of the held operator (their
+    // estimates hovered at 5 to 10 times the round-off floor until it was
+    // raised where they stall), and 1500 take the dense solver.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("body.json");
-    let o = flexbody(&[
-        "reduce",
-        model.to_str().unwrap(),
-        "--method",
-        "free-residual",
-        "--modes",
-        "1500",
-        "--out",
-        out.to_str().unwrap(),
-        "--check",
-        "never",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    for modes in ["1500", "200"] {
+        let o = flexbody(&[
+            "reduce",
+            model.to_str().unwrap(),
+            "--method",
+            "free-residual",
+            "--modes",
+            modes,
+            "--out",
+            out.to_str().unwrap(),
+            "--check",
+            "never",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let body: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let reduced: Vec<f64> = serde_json::from_value(body["frequencies_hz"].clone()).unwrap();
+    for (a, b) in reduced.iter().zip(&dense).take(206).skip(6) {
+        assert!((a - b).abs() <= 1e-8 * b, "{a} vs {b}");
+    }
 }
 
 #[test]
