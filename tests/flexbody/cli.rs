@@ -26,6 +26,11 @@ fn fails_with(args: &[&str], needles: &[&str]) {
     }
 }
 
+/// The solid side beam example (1668 DOFs, the sparse solver).
+fn solid_side_beam() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
+}
+
 /// The side beam with `from` replaced by `to`, written to `dir/name`.
 fn variant(dir: &Path, name: &str, from: &str, to: &str) -> String {
     let text = super::side_beam_text();
@@ -339,8 +344,7 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
     // Lanczos run lost and found them again until its step limit; before
     // free-residual chose its solver by the mode count, 1500 modes took
     // minutes there.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let run = |count: &str| -> (Vec<f64>, Vec<f64>) {
         let o = flexbody(&["modes", model.to_str().unwrap(), "--json", "--count", count]);
         assert!(o.status.success(), "{}", stderr(&o));
@@ -389,8 +393,7 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
 fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
     // The solid side beam (1668 DOFs, the sparse solver): --fmax 700 Hz
     // gives exactly the modes of --count 12 that lie below 700 Hz.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let run = |extra: &[&str]| -> Vec<f64> {
         let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
         args.extend_from_slice(extra);
@@ -422,8 +425,7 @@ fn a_factor_beyond_max_memory_is_refused_before_factorising() {
     // The solid side beam (the sparse solver). Under a budget of 1 MiB the
     // process already holds more than that: the factor is refused with its
     // size before any storage is taken, and no body is written.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let model = model.to_str().unwrap();
     fails_with(
         &["--max-memory", "0.001", "modes", model, "--count", "10"],
@@ -476,8 +478,7 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
     // with a basis of 1264 vectors (17 MB), its factor 1.5 MB. A budget
     // of 25.6 MiB leaves room for the factor, not for both: refused,
     // naming the modes and vectors.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let model = model.to_str().unwrap();
     fails_with(
         &["--max-memory", "0.025", "modes", model, "--count", "400"],
@@ -496,8 +497,7 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
 fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
     // The solid side beam: ordering, factorisations and Lanczos steps of the
     // sparse solver, then the reduced body's size before its output.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("body.json");
     let o = flexbody(&[
@@ -527,8 +527,7 @@ fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
 fn info_factor_gives_the_factor_that_modes_analyses() {
     // `info --factor` orders and analyses K - sigma M as the solver does:
     // the same entries of L as the `--verbose` log of `modes` reports.
-    let model =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml");
+    let model = solid_side_beam();
     let model = model.to_str().unwrap();
     let o = flexbody(&["info", model, "--factor"]);
     assert!(o.status.success(), "{}", stderr(&o));
