@@ -54,7 +54,7 @@ pub enum MbsError {
     NoConvergence { time: f64, iterations: usize },
     #[error("the damped modes of a system of {coordinates} coordinates need the dense eigen solver, which stops at {limit}: reduce the body first")]
     TooLargeForDense { coordinates: usize, limit: usize },
-    #[error("the dense eigen solver resolves {found} of the {coordinates} undamped modes of the system (the others are massless, or stiffer than about 1e13 / {coordinates} times the softest); its damped modes need all of them")]
+    #[error("the dense eigen solver resolves {found} of the {coordinates} undamped modes of the system (the others are massless: directions whose mass is round-off); its damped modes need all of them")]
     UnresolvedModes { found: usize, coordinates: usize },
     #[error(transparent)]
     Linalg(#[from] flexbody_linalg::LinalgError),

@@ -156,10 +156,13 @@ pub fn reduce_taking(sub: &mut Substructure, spec: &Reduction) -> Result<Reduced
     reduce_from(sub, Matrices::Given(Box::new((k, m))), checked?, spec)
 }
 
-/// What [`check`] found: the interface equations and the rigid-body modes.
+/// What [`check`] found: the interface equations, the rigid-body modes and
+/// the size of the basis besides its eigenmodes.
 struct Checked {
     boundary: Vec<usize>,
     rigid: RigidModes,
+    /// Basis columns besides the eigenmodes ([`other_columns`]).
+    others: usize,
 }
 
 /// The checks of `spec` against `sub` before any mode is computed.
@@ -185,7 +188,11 @@ fn check(sub: &Substructure, spec: &Reduction) -> Result<Checked, ReduceError> {
     if spec.max_frequency_hz.is_none() {
         fits_model(spec, spec.modes, others, sub.dof_map.len())?;
     }
-    Ok(Checked { boundary, rigid })
+    Ok(Checked {
+        boundary,
+        rigid,
+        others,
+    })
 }
 
 /// Columns of a method's basis besides its eigenmodes: constraint modes
@@ -225,7 +232,11 @@ fn fits_model(
 fn reduce_from(
     sub: &Substructure,
     matrices: Matrices<'_>,
-    Checked { boundary, rigid }: Checked,
+    Checked {
+        boundary,
+        rigid,
+        others,
+    }: Checked,
     spec: &Reduction,
 ) -> Result<ReducedBody, ReduceError> {
     let map = &sub.dof_map;
@@ -351,7 +362,6 @@ fn reduce_from(
         }
     };
     // A band's modes are known only now.
-    let others = other_columns(spec, boundary.len(), rigid.count());
     fits_model(
         spec,
         basis.ncols().saturating_sub(others),
