@@ -39,7 +39,8 @@ pub enum Stage {
         wanted: usize,
         basis: usize,
     },
-    /// The Lanczos iterations finished (before the Sturm check): `solves`
+    /// The Lanczos iterations finished (after the Sturm check, which may
+    /// continue them on its own factor): `solves`
     /// right-hand sides in `block_solves` sweeps through `L`, taking
     /// `solve_seconds`; `products` right-hand sides multiplied by `M`,
     /// taking `mass_seconds`; `seconds` in all.

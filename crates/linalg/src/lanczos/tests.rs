@@ -261,3 +261,14 @@ fn block_orthonormalisation_in_the_m_inner_product() {
         assert_eq!(b[(2, 2)] == 0.0, dependent);
     }
 }
+
+#[test]
+fn the_shift_above_a_stalled_band_lies_in_the_gap_to_the_next_value() {
+    // Halfway to the next value; at most 5 % of the span above the top
+    // (nothing above, or a wide gap); at least 1e-4 of it (a close pair).
+    let span = 10.0;
+    assert_eq!(shift_above(&[1.0, 2.0, 2.2, 3.0], 2.0, span), 2.1);
+    assert_eq!(shift_above(&[1.0, 2.0], 2.0, span), 2.5);
+    assert_eq!(shift_above(&[2.0, 4.0], 2.0, span), 2.5);
+    assert_eq!(shift_above(&[2.0, 2.0000001], 2.0, span), 2.001);
+}
