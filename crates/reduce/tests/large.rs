@@ -550,7 +550,8 @@ fn time_dense_against_sparse() {
 /// residuals up to 1.2e-4). The run hands the rest over to the Sturm
 /// check's shift above the band (and, stalling again, to shifts below
 /// it): every mode, counted by the inertia, with residuals below 1e-5,
-/// M-orthonormal, and the frequencies of the first run where it converged.
+/// M-orthonormal, and the frequencies of the first run where it converged;
+/// the same for a band, which counts first.
 #[test]
 fn a_stalled_run_finishes_on_shifts_above_the_band() {
     let s = block(40, 2, 2, [2.0, 0.05, 0.05], false);
@@ -587,4 +588,26 @@ fn a_stalled_run_finishes_on_shifts_above_the_band() {
     };
     let first = lanczos(k, m, Wanted::Lowest(count), &params, &NoProgress).unwrap();
     assert_close(&found.pairs.values, &first.pairs.values, 1e-7);
+    // The band up to midway between modes 140 and 141: counted first, then
+    // the stalled run finishes on a factor at the band's bound.
+    let v = &found.pairs.values;
+    let bound = 0.5 * (v[139] + v[140]);
+    let band = lanczos(
+        k,
+        m,
+        Wanted::Below(bound),
+        &LanczosParams::default(),
+        &NoProgress,
+    )
+    .unwrap();
+    let sturm = band.sturm.unwrap();
+    assert_eq!(sturm.count, 140, "{sturm:?}");
+    assert!(sturm.found_first < 140, "{sturm:?}");
+    assert_eq!(band.pairs.values.len(), 140);
+    assert!(
+        band.residuals.iter().all(|r| *r < 1e-5),
+        "{:?}",
+        band.residuals
+    );
+    assert_close(&band.pairs.values, &v[..140], 1e-9);
 }
