@@ -36,17 +36,17 @@
 //! shift, whose `theta` lie two decades or more below `theta_max` (the
 //! last ten of 100 modes of a thin-walled beam at 3e5 DOFs), converge
 //! slowly and only to the round-off floor `eps theta_max`. When four
-//! sweeps in a row converge no new wanted pair (with
-//! every wanted Ritz value already close, and past the first restart), the
-//! run stops: the Sturm shift goes just above the `nev`-th Ritz value (an
-//! upper bound of its eigenvalue), into the gap to the next one, and the
-//! run continues there from the unconverged Ritz vectors, locked pairs
-//! deflated. Near the shift the rest converge in a few sweeps. Should that
-//! run stall too (modes still far below), the shift moves down, just above
-//! the highest unconverged one, at most four times, each move one
-//! factorisation more and a count of its own; the count at the band's
-//! top decides when the solve is complete. On the C3D8 beam of 3e5 DOFs, 100 modes took 246
-//! sweeps and 112 s of Lanczos before, 61 sweeps and 22 s now, with
+//! sweeps in a row converge no new wanted pair (with every wanted Ritz
+//! value already close, and past the first restart), the run stops: the
+//! Sturm shift goes just above the `nev`-th Ritz value (an upper bound of
+//! its eigenvalue), into the gap to the next one, and the run continues
+//! there from the unconverged Ritz vectors, locked pairs deflated. Near
+//! the shift the rest converge in a few sweeps. Should that run stall too
+//! (modes still far below), the shift moves down, just above the highest
+//! unconverged one, at most four times, each move one factorisation more
+//! and a count of its own; the count at the band's top decides when the
+//! solve is complete. On the C3D8 beam of 3e5 DOFs, 100 modes took 247
+//! sweeps and 112 s of Lanczos before, 61 sweeps and 22-25 s now, with
 //! residuals of at most 1.2e-7 instead of 2.4e-6.
 //!
 //! # Residuals
