@@ -353,11 +353,8 @@ pub fn lanczos_on(
         let (mut bound, count) = match sturm {
             Some((bound, count)) => (bound, count),
             None => {
-                let mut v = locked.lambda.clone();
-                if let Some(s) = &stalled {
-                    v.extend(&s.lambda);
-                }
-                v.sort_by(f64::total_cmp);
+                let v =
+                    found_and_ritz(&locked, stalled.as_ref().map_or(&[][..], |s| &s.lambda[..]));
                 let top = v[nev.min(v.len()) - 1];
                 let shift = if stalled.is_some() {
                     shift_above(&v, top, (top - sigma).abs())
@@ -389,15 +386,11 @@ pub fn lanczos_on(
                 });
                 break;
             }
-            if op.sign > 0.0 || below(&locked, slice.0) >= slice.1 {
-                // Back to the band's top (a band's count came first, or a
-                // slice below it is complete).
-                if op.sign < 0.0 && slice.0 == bound {
-                    // Already there: nothing more to find below it.
-                } else {
-                    (bound, _) = op.move_above(bound)?;
-                    slice = (bound, count);
-                }
+            if op.sign > 0.0 || (slice.0 != bound && below(&locked, slice.0) >= slice.1) {
+                // Back to the band's top: a band's count came first, or a
+                // slice below it is complete.
+                (bound, _) = op.move_above(bound)?;
+                slice = (bound, count);
             }
             attempts += 1;
             let run = krylov_schur(
@@ -422,9 +415,7 @@ pub fn lanczos_on(
                 // just above the highest of them.
                 moves += 1;
                 let hi = stalled.lambda.iter().copied().fold(f64::MIN, f64::max);
-                let mut v = locked.lambda.clone();
-                v.extend(&stalled.lambda);
-                v.sort_by(f64::total_cmp);
+                let v = found_and_ritz(&locked, &stalled.lambda);
                 let shift = shift_above(&v, hi, (hi - sigma).abs()).min(slice.0);
                 if shift < slice.0 {
                     slice = op.move_above(shift)?;
@@ -499,6 +490,13 @@ pub fn lanczos_on(
         sturm: report,
         stats,
     })
+}
+
+/// The eigenvalues found and the Ritz values of a stalled run, ascending.
+fn found_and_ritz(locked: &Locked, ritz: &[f64]) -> Vec<f64> {
+    let mut v = [locked.lambda.as_slice(), ritz].concat();
+    v.sort_by(f64::total_cmp);
+    v
 }
 
 /// A shift just above `top` for an operator that is to converge the
@@ -664,8 +662,7 @@ impl Operator<'_> {
     /// Eigenvalues below `bound` by the inertia of `K - bound M`, in the
     /// storage of the operator's factor, which is given up.
     fn sturm_count(&mut self, bound: f64) -> Result<usize, LinalgError> {
-        let (_, f) = self.factor_at(bound)?;
-        let count = f.inertia().negative + f.inertia().zero;
+        let (_, count, f) = self.factor_at(bound)?;
         self.spare = f.into_storage();
         Ok(count)
     }
@@ -677,8 +674,7 @@ impl Operator<'_> {
     /// one factorisation both the check and the operator that converges
     /// the band's highest modes fastest. Returns `s` and the count.
     fn move_above(&mut self, bound: f64) -> Result<(f64, usize), LinalgError> {
-        let (s, f) = self.factor_at(bound)?;
-        let count = f.inertia().negative + f.inertia().zero;
+        let (s, count, f) = self.factor_at(bound)?;
         self.factor = Some(f);
         self.sigma = s;
         self.sign = -1.0;
@@ -693,8 +689,9 @@ impl Operator<'_> {
 
     /// The `LDL^T` of `K - s M` for `s` from `bound` up (a shift on an
     /// eigenvalue, a zero pivot, is moved up by a relative 1e-8), in the
-    /// storage of the operator's factor; counted as the Sturm check's time.
-    fn factor_at(&mut self, bound: f64) -> Result<(f64, ShiftedFactor), LinalgError> {
+    /// storage of the operator's factor, with its count of eigenvalues
+    /// below `s`; counted as the Sturm check's time.
+    fn factor_at(&mut self, bound: f64) -> Result<(f64, usize, ShiftedFactor), LinalgError> {
         let t = Instant::now();
         let mut storage = match self.factor.take() {
             Some(f) => f.into_storage(),
@@ -710,7 +707,8 @@ impl Operator<'_> {
                         seconds: t.elapsed().as_secs_f64(),
                     });
                     self.sturm_seconds += t.elapsed().as_secs_f64();
-                    return Ok((s, f));
+                    let count = f.inertia().negative + f.inertia().zero;
+                    return Ok((s, count, f));
                 }
                 Err(LinalgError::Singular { .. }) => {
                     storage = Vec::new();
