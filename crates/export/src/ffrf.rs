@@ -93,11 +93,8 @@ fn sym_eigen(a: &Mat<f64>) -> Result<(Vec<f64>, Mat<f64>), ExportError> {
     }
     let mut s = a.clone();
     flexbody_linalg::sparse::symmetrize(&mut s);
-    let evd = s
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| invalid(format!("eigen-decomposition failed: {e:?}")))?;
-    let values = (0..n).map(|i| evd.S().column_vector()[i]).collect();
-    Ok((values, evd.U().to_owned()))
+    flexbody_linalg::eigen::symmetric_eigen(s.as_ref())
+        .map_err(|e| invalid(format!("eigen-decomposition failed: {e}")))
 }
 
 /// Checks that the body belongs to the substructure.

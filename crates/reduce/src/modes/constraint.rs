@@ -88,16 +88,13 @@ pub(crate) fn mechanism_check(
     // Null space of the boundary rows: right singular vectors of tiny
     // singular values (compare with the size of the modes themselves).
     let gram = rows.transpose() * &rows;
-    let evd = gram
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
+    let (s, u) = flexbody_linalg::eigen::symmetric_eigen(gram.as_ref())?;
     let scale = rigid.vectors.norm_max().powi(2);
-    let s = evd.S();
     let free_motion = (0..nr).find(|&k| s[k] <= 1e-12 * scale * boundary.len().max(1) as f64);
     let Some(k) = free_motion else {
         return Ok(());
     };
-    let shape = &rigid.vectors * evd.U().col(k);
+    let shape = &rigid.vectors * u.col(k);
     let mut moving: Vec<(f64, usize)> = interior
         .iter()
         .map(|&i| (shape[i].abs(), i))
