@@ -1050,11 +1050,10 @@ fn krylov_schur(
     // against them.
     let mut nl = 0usize;
     // The residual floor in units of eps theta_max. Where a run's estimates
-    // stop falling is the problem's (200 modes of a 1668-DOF solid hover
-    // at 5 to 10 times 64): when four restarts in a row converge no new
-    // wanted pair and do not halve the smallest ratio of an unconverged
-    // estimate to its threshold, while that ratio is below 100 (near the
-    // floor, not merely slow), the floor doubles.
+    // stop falling is the problem's: when four restarts in a row converge
+    // no new wanted pair and do not halve the smallest ratio of an
+    // unconverged estimate to its threshold, while that ratio is below 100
+    // (near the floor, not merely slow), the floor doubles.
     let mut floor_factor = 64.0;
     let (mut best_ratio, mut converged_before, mut stalled) = (f64::INFINITY, 0usize, 0usize);
     let lk = locked.x.as_ref();
