@@ -42,10 +42,11 @@ struct Cli {
     #[arg(long, short, global = true)]
     verbose: bool,
     /// Refuse a sparse factorisation whose factor (with, before an eigen
-    /// solve, the Lanczos basis) would take this process beyond this many
-    /// GiB (2^30 bytes) of resident memory, before any of it is stored
-    /// (the solver's other arrays come on top). The machine's available
-    /// memory and the cgroup's limit are always checked this way.
+    /// solve, the Lanczos basis), or a dense eigen solve whose matrices,
+    /// would take this process beyond this many GiB (2^30 bytes) of
+    /// resident memory, before any of it is stored (the solver's other
+    /// arrays come on top). The machine's available memory and the
+    /// cgroup's limit are always checked this way.
     #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
     max_memory: Option<u64>,
     #[command(subcommand)]

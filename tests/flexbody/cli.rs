@@ -495,6 +495,24 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
 }
 
 #[test]
+fn a_dense_eigen_solve_beyond_max_memory_is_refused_before_it_starts() {
+    // 1000 of the 1668 modes of the solid side beam take the dense solver:
+    // 12 matrices of 1668 x 1668 (267 MB; the run peaks at 265 MB). A
+    // budget of 102 MiB is refused, naming the solve; 0.5 GiB is enough.
+    let model = solid_side_beam();
+    let model = model.to_str().unwrap();
+    fails_with(
+        &["--max-memory", "0.1", "modes", model, "--count", "1000"],
+        &[
+            "the dense eigen solve of 1668 equations (12 matrices of 1668 x 1668) needs",
+            "(--max-memory 102.4 MiB with",
+        ],
+    );
+    let o = flexbody(&["--max-memory", "0.5", "modes", model, "--count", "1000"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
 fn verbose_reduce_logs_the_stages_and_where_the_body_is_written() {
     // The solid side beam: ordering, factorisations and Lanczos steps of the
     // sparse solver, then the reduced body's size before its output.

@@ -17,7 +17,7 @@ use super::{complement, expand};
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
-use flexbody_linalg::eigen::generalized_symmetric;
+use flexbody_linalg::eigen::{ensure_dense_room, generalized_symmetric};
 use flexbody_linalg::lanczos::{lanczos, lanczos_on, Held, LanczosParams, SparseEigen, Wanted};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
@@ -213,6 +213,7 @@ pub fn eigenmodes_with(
             limit: DENSE_LIMIT,
         });
     }
+    ensure_dense_room(n, 2)?;
     let pairs = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
     let available = pairs.values.len();
     if count > available {
