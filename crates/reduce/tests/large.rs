@@ -547,10 +547,11 @@ fn time_dense_against_sparse() {
 /// A slender bar (1107 DOFs) and 150 modes on a basis of only 24 vectors
 /// more than that (a basis held small to save memory): each restart keeps
 /// little room to grow, and the first run stops converging new pairs
-/// before it has them all. It hands the rest over to the Sturm check's shift above
-/// the band (and, stalling again, to shifts below it): every mode, counted
-/// by the inertia, with residuals below 1e-7, M-orthonormal, and the dense
-/// solver's frequencies; the same for a band, which counts first.
+/// before it has them all. It hands the rest over to the Sturm check's
+/// shift above the band (and, stalling again, to shifts below it): every
+/// mode, counted by the inertia, with residuals below 1e-7, M-orthonormal,
+/// and the dense solver's frequencies; the same for a band, which counts
+/// first.
 #[test]
 fn a_stalled_run_finishes_on_shifts_above_the_band() {
     let s = block(40, 2, 2, [2.0, 0.05, 0.05], false);
