@@ -33,8 +33,11 @@
 //! the eigenvalues below `s`, the largest nearest it.
 //!
 //! That factor also finishes a run that stalls: when four sweeps in a row
-//! converge no new wanted pair (with every wanted Ritz value already
-//! close, and past the first restart), the run stops. A basis held small
+//! past the first restart converge no new wanted pair (with every wanted
+//! Ritz value already close), the run stops. The sweeps that fill the
+//! basis do not count: a large block, or a free body whose elastic modes
+//! converge only after the rigid-body ones, reaches the first restart
+//! with nothing new converged. A basis held small
 //! ([`LanczosParams::basis_size`] a few blocks above the count) leaves each
 //! restart little room to grow, and so do clusters at the band's top. The
 //! Sturm shift then goes just above the `nev`-th Ritz value (an upper
@@ -1219,9 +1222,11 @@ fn krylov_schur(
             wanted: nev,
             basis: e,
         });
+        // Sweeps before the first restart, while the basis still grows,
+        // are no stall (see the module docs).
         if wanted_conv > record {
             (record, since) = (wanted_conv, 0);
-        } else {
+        } else if restarts > 0 {
             since += 1;
         }
         let done = wanted_conv >= nev.min(e) && e >= nev;
