@@ -158,7 +158,7 @@ enum Command {
         model: PathBuf,
         #[command(flatten)]
         matrices: MatrixArgs,
-        /// Number of modes, lowest first.
+        /// Number of modes, lowest first (all of them where the model has fewer).
         #[arg(long, default_value_t = 10, conflicts_with = "fmax")]
         count: usize,
         /// Instead of --count: every mode below this frequency (Hz), counted
@@ -271,6 +271,7 @@ fn run(cli: Cli) -> Result<()> {
             let band = match fmax {
                 Some(f) if f.is_finite() && f > 0.0 => red::modes::Band::BelowHz(f),
                 Some(f) => anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}"),
+                None if count == 0 => anyhow::bail!("--count must be at least 1"),
                 None => red::modes::Band::Lowest(count),
             };
             run_modes(&model, &matrices, band, json)

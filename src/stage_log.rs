@@ -57,6 +57,9 @@ fn describe(stage: &Stage) -> String {
         } => {
             format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
         }
+        Stage::DenseEigen { equations, wanted } => format!(
+            "dense eigen solve of {equations} equations ({wanted} modes, too many for Lanczos)"
+        ),
         Stage::Solves { columns: 1 } => "solving for 1 right-hand side".to_string(),
         Stage::Solves { columns } => format!("solving for {columns} right-hand sides"),
         Stage::Done { seconds } => format!("eigenmodes done ({seconds:.1} s)"),

@@ -54,6 +54,18 @@
 //! [`crate::eigen::symmetric_eigen`]: faer's eigen-decomposition of the
 //! unscaled `H`, of norm 1e-9, held the residuals near 1e-6.)
 //!
+//! # Counts too large for a basis
+//! A run for `nev` pairs keeps a basis of `2 nev + 4 b` vectors. Where
+//! that would fill the model (about half its modes or more, for a band
+//! after its count), a Krylov space has nothing left to restart with and
+//! its last blocks are round-off: the dense solver
+//! ([`crate::eigen::generalized_symmetric`] on `K` and `M` formed from the
+//! pencil) takes the problem instead, within the memory check
+//! ([`crate::eigen::ensure_dense_room`]); [`LanczosStats::dense`] says so.
+//! A Sturm check whose count differs from the eigenvalues found below its
+//! bound, after the runs it allows, is an error: no mode set is returned
+//! with a mode missing or found twice.
+//!
 //! # Residuals
 //! Each mode's residual is `||K x - lambda M x|| / ||K x||`; for a rigid-body
 //! mode, whose `K x` is itself round-off, the denominator is the floor
@@ -164,6 +176,10 @@ pub struct LanczosStats {
     pub restarts: usize,
     /// Lanczos runs (more than one after a failed Sturm check).
     pub runs: usize,
+    /// The wanted pairs were too many for a Lanczos basis (it would span
+    /// the whole space) and came from the dense solver (see
+    /// [`lanczos_on`]); no Lanczos run was made.
+    pub dense: bool,
     pub analysis_seconds: f64,
     pub factorization_seconds: f64,
     /// Lanczos iterations (solves, products with `M`,
@@ -295,6 +311,12 @@ pub fn lanczos_on(
         }
     };
     let known = held.as_ref().map_or(0, |h| h.held.rigid.ncols());
+    if spans_the_space(nev.saturating_sub(known), n - known.min(n), params) {
+        stats.factorization_seconds = op.factorization_seconds;
+        stats.sturm_seconds = op.sturm_seconds;
+        drop(op);
+        return dense_pairs(pencil, wanted, nev, sturm, sigma, stats, progress, start);
+    }
     op.ensure_room(nev.saturating_sub(known), params)?;
     op.factorize()?;
     if nev == 0 {
@@ -382,7 +404,16 @@ pub fn lanczos_on(
                 count,
                 found: have,
             });
-            if have >= count || attempts == 16 {
+            if have > count {
+                // More eigenvalues below the bound than it has: pairs found
+                // twice or spurious ones (lost orthogonality). Never
+                // returned as modes.
+                return Err(LinalgError::Faer(format!(
+                    "the Lanczos runs found {have} eigenvalues below {bound:.6e} where \
+                     the Sturm count has {count}: spurious eigenpairs"
+                )));
+            }
+            if have == count {
                 report = Some(SturmReport {
                     bound,
                     count,
@@ -390,6 +421,12 @@ pub fn lanczos_on(
                     found: have,
                 });
                 break;
+            }
+            if attempts == MAX_ATTEMPTS {
+                return Err(LinalgError::Faer(format!(
+                    "the Lanczos runs found {have} of the {count} eigenvalues below \
+                     {bound:.6e} (Sturm count) in {attempts} runs after the first"
+                )));
             }
             if op.sign > 0.0 || (slice.0 != bound && below(&locked, slice.0) >= slice.1) {
                 // Back to the band's top: a band's count came first, or a
@@ -480,10 +517,22 @@ pub fn lanczos_on(
             tall::div_upper(x, l.transpose());
         }
     }
-    let kx = pencil.mul_stiffness(vectors.as_ref());
-    let values: Vec<f64> = (0..vectors.ncols())
+    let mut kx = pencil.mul_stiffness(vectors.as_ref());
+    let mut values: Vec<f64> = (0..vectors.ncols())
         .map(|j| dot(vectors.col(j), kx.col(j)) / dot(vectors.col(j), mx.col(j)))
         .collect();
+    // The Rayleigh quotients may swap neighbours the Ritz values ordered
+    // (repeated eigenvalues, rigid-body modes at round-off): ascending again.
+    for j in 1..values.len() {
+        let mut i = j;
+        while i > 0 && values[i - 1] > values[i] {
+            values.swap(i - 1, i);
+            for x in [&mut vectors, &mut mx, &mut kx] {
+                swap_columns(x, i - 1, i);
+            }
+            i -= 1;
+        }
+    }
     let residuals = residuals_of(&kx, &mx, &values, vectors.as_ref(), &k_diag);
     progress.report(&Stage::Done {
         seconds: start.elapsed().as_secs_f64(),
@@ -495,6 +544,15 @@ pub fn lanczos_on(
         sturm: report,
         stats,
     })
+}
+
+/// Swaps columns `a < b` of `x`.
+fn swap_columns(x: &mut Mat<f64>, a: usize, b: usize) {
+    let (left, right) = x.as_mut().split_at_col_mut(b);
+    let (mut p, mut q) = (left.col_mut(a), right.col_mut(0));
+    for i in 0..p.nrows() {
+        std::mem::swap(&mut p[i], &mut q[i]);
+    }
 }
 
 /// The eigenvalues found and the Ritz values of a stalled run, ascending.
@@ -963,13 +1021,98 @@ fn gram_schmidt_block(
 /// `free` dimensions.
 fn basis_shape(nev: usize, free: usize, params: &LanczosParams) -> (usize, usize) {
     let b = params.block_size.max(1).min(free.max(1));
-    let p_max = if params.basis_size > 0 {
+    (b, basis_for(nev, b, params).min(free))
+}
+
+/// The largest basis of a run for `nev` eigenpairs with blocks of `b`.
+fn basis_for(nev: usize, b: usize, params: &LanczosParams) -> usize {
+    if params.basis_size > 0 {
         params.basis_size.max(nev + 2 * b)
     } else {
         2 * nev + 4 * b
     }
-    .min(free);
-    (b, p_max)
+}
+
+/// Whether a Lanczos basis for `nev` eigenpairs would fill the `free`
+/// dimensions: a Krylov space that exhausts the space leaves nothing to
+/// restart with, and its last blocks, round-off after the projections,
+/// gave spurious pairs (the 6 x 6 x 6 cube's 900 lowest of 1029: residuals
+/// of 0.7 and 750 eigenvalues more than the Sturm count). The dense solver
+/// takes such a problem.
+fn spans_the_space(nev: usize, free: usize, params: &LanczosParams) -> bool {
+    nev > 0 && basis_for(nev, params.block_size.max(1), params) >= free
+}
+
+/// The wanted pairs from dense `K` and `M` (formed by the pencil's
+/// products with the identity) and [`crate::eigen::generalized_symmetric`],
+/// for a count [`spans_the_space`]. A band's Sturm count, made before,
+/// goes into the report as the count; the eigenvalues below the bound are
+/// the dense solver's.
+#[allow(clippy::too_many_arguments)]
+fn dense_pairs(
+    pencil: &ShiftedPencil,
+    wanted: Wanted,
+    nev: usize,
+    sturm: Option<(f64, usize)>,
+    sigma: f64,
+    mut stats: LanczosStats,
+    progress: &dyn Progress,
+    start: Instant,
+) -> Result<SparseEigen, LinalgError> {
+    let n = pencil.dim();
+    crate::eigen::ensure_dense_room(n, 2).map_err(|err| {
+        LinalgError::Dimension(format!(
+            "{nev} eigenpairs of a {n}-equation model are too many for Lanczos (its \
+             basis would span the model), and the dense solver does not fit: {err}"
+        ))
+    })?;
+    progress.report(&Stage::DenseEigen {
+        equations: n,
+        wanted: nev,
+    });
+    let eye = Mat::<f64>::identity(n, n);
+    let k = pencil.mul_stiffness(eye.as_ref());
+    let m = pencil.mul_mass(eye.as_ref());
+    drop(eye);
+    let all = crate::eigen::generalized_symmetric(k.as_ref(), m.as_ref())?;
+    drop((k, m));
+    let keep = match wanted {
+        Wanted::Lowest(count) => count,
+        Wanted::Below(bound) => all.values.iter().filter(|&&l| l < bound).count(),
+    };
+    if keep > all.values.len() {
+        return Err(LinalgError::Dimension(format!(
+            "{keep} eigenpairs wanted of a {n}-equation model with {} finite ones",
+            all.values.len()
+        )));
+    }
+    let pairs = all.slice(0, keep);
+    drop(all);
+    let kx = pencil.mul_stiffness(pairs.vectors.as_ref());
+    let mx = pencil.mul_mass(pairs.vectors.as_ref());
+    let residuals = residuals_of(
+        &kx,
+        &mx,
+        &pairs.values,
+        pairs.vectors.as_ref(),
+        &pencil.stiffness_diagonal(),
+    );
+    stats.dense = true;
+    progress.report(&Stage::Done {
+        seconds: start.elapsed().as_secs_f64(),
+    });
+    Ok(SparseEigen {
+        pairs,
+        residuals,
+        shift: sigma,
+        sturm: sturm.map(|(bound, count)| SturmReport {
+            bound,
+            count,
+            found_first: keep,
+            found: keep,
+        }),
+        stats,
+    })
 }
 
 /// Sweeps without a new converged wanted pair after which the first run
@@ -986,6 +1129,10 @@ const FLOOR: f64 = 64.0;
 
 /// Moves of the shift below the band's top after stalls.
 const MAX_MOVES: usize = 4;
+
+/// Runs after the first before a Sturm check that still misses
+/// eigenvalues gives up (with an error).
+const MAX_ATTEMPTS: usize = 16;
 
 /// What one [`krylov_schur`] run found.
 struct Run {

@@ -59,6 +59,9 @@ pub enum Stage {
         count: usize,
         found: usize,
     },
+    /// The `wanted` eigenpairs of an `equations`-equation model by the
+    /// dense solver: too many for a Lanczos basis.
+    DenseEigen { equations: usize, wanted: usize },
     /// A block solve of `columns` right-hand sides (static modes).
     Solves { columns: usize },
     /// The computation finished.

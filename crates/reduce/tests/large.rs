@@ -640,3 +640,55 @@ fn sweeps_before_the_first_restart_are_no_stall() {
     let dense = eigenmodes_with(k, m, count, EigenSolver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-10);
 }
+
+/// More modes than a Lanczos basis holds: for 600 of the 6 x 6 x 6 cube's
+/// 1029 the basis would span the model, and a Krylov space that exhausts
+/// it is round-off in its last blocks (900 of them once came with
+/// residuals of 0.7, and with hundreds more eigenvalues below the Sturm
+/// bound than it has). Such a count, or a band that holds one, goes to
+/// the dense solver, ascending and accurate; half the modes and fewer
+/// stay with Lanczos.
+#[test]
+fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
+    let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let n = k.nrows();
+    let dense = eigenmodes_with(k, m, n, EigenSolver::Dense).unwrap().values;
+    let params = LanczosParams::default();
+    let ascending = |v: &[f64]| v.windows(2).all(|w| w[0] <= w[1]);
+    // The first count from 600 on that ends a cluster of equal frequencies.
+    let count = (600..n)
+        .find(|&c| dense[c] > dense[c - 1] * (1.0 + 1e-6))
+        .unwrap();
+    let found = lanczos(k, m, Wanted::Lowest(count), &params, &NoProgress).unwrap();
+    assert!(
+        found.stats.dense && found.stats.runs == 0,
+        "{:?}",
+        found.stats
+    );
+    assert_close(&found.pairs.values, &dense[..count], 1e-10);
+    let worst = |r: &[f64]| r.iter().copied().fold(0.0, f64::max);
+    assert!(
+        worst(&found.residuals) < 1e-10,
+        "{:e}",
+        worst(&found.residuals)
+    );
+    // A band with that many modes: counted, then solved densely.
+    let bound = 0.5 * (dense[count - 1] + dense[count]);
+    let band = lanczos(k, m, Wanted::Below(bound), &params, &NoProgress).unwrap();
+    assert!(band.stats.dense);
+    assert_eq!(band.sturm.unwrap().count, count);
+    assert_close(&band.pairs.values, &dense[..count], 1e-10);
+    // Every mode (a bound above the highest, 84.6 kHz).
+    let all = lanczos(k, m, Wanted::Below(1e20), &params, &NoProgress).unwrap();
+    assert_eq!(all.sturm.unwrap().count, n);
+    assert_close(&all.pairs.values, &dense, 1e-10);
+    assert!(ascending(&all.pairs.values));
+    assert!(worst(&all.residuals) < 1e-10, "{:e}", worst(&all.residuals));
+    // Lanczos keeps 490 modes: its basis of 1012 leaves room.
+    let lanczos_490 = lanczos(k, m, Wanted::Lowest(490), &params, &NoProgress).unwrap();
+    assert!(!lanczos_490.stats.dense && lanczos_490.stats.runs >= 1);
+    assert!(ascending(&lanczos_490.pairs.values));
+    assert!(worst(&lanczos_490.residuals) < 1e-7);
+    assert_close(&lanczos_490.pairs.values, &dense[..490], 1e-9);
+}
