@@ -692,3 +692,22 @@ fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
     assert!(worst(&lanczos_490.residuals) < 1e-7);
     assert_close(&lanczos_490.pairs.values, &dense[..490], 1e-9);
 }
+
+/// A band whose bound is an eigenvalue to round-off: the Sturm count and
+/// the modes found may place that one on either side of it, and neither
+/// is an error; the modes returned are the lowest ones.
+#[test]
+fn a_band_bounded_on_an_eigenvalue_is_no_error() {
+    let s = block(40, 2, 2, [2.0, 0.05, 0.05], false);
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let dense = eigenmodes_with(k, m, 40, EigenSolver::Dense)
+        .unwrap()
+        .values;
+    let params = LanczosParams::default();
+    for i in 8..36 {
+        let band = lanczos(k, m, Wanted::Below(dense[i]), &params, &NoProgress).unwrap();
+        let len = band.pairs.values.len();
+        assert!(len + 2 >= i && len <= i + 2, "{i}: {len}");
+        assert_close(&band.pairs.values, &dense[..len], 1e-10);
+    }
+}
