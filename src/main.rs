@@ -528,9 +528,13 @@ fn run_reduce(
             }
         }
         None => {
-            say!(
-                "(no comparison with the full model above {CHECK_UP_TO} DOFs; --check always adds it)"
-            );
+            if check == "never" {
+                say!("(no comparison with the full model: --check never)");
+            } else {
+                say!(
+                    "(no comparison with the full model above {CHECK_UP_TO} DOFs; --check always adds it)"
+                );
+            }
             say!("{:>5} {:>14}", "mode", "reduced (Hz)");
             for (i, r) in reduced_hz.iter().enumerate() {
                 say!("{:>5} {:>14.6}", i + 1, r);

@@ -129,6 +129,24 @@ fn reduce_writes_the_body_and_compares_frequencies() {
     assert!(doc["full_hz"].is_null());
     let again: Vec<f64> = serde_json::from_value(doc["reduced_hz"].clone()).unwrap();
     assert_eq!(again, reduced);
+    // The table says why there is no comparison: the option, not the size.
+    let o = flexbody(&[
+        "reduce",
+        model.to_str().unwrap(),
+        "--method",
+        "free-residual",
+        "--modes",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--check",
+        "never",
+    ]);
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        table.contains("(no comparison with the full model: --check never)"),
+        "{table}"
+    );
 }
 
 #[test]
