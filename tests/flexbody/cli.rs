@@ -408,21 +408,24 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
     }
 }
 
+/// `flexbody modes MODEL --json EXTRA..`: the frequencies (Hz) and residuals.
+fn modes_json(model: &std::path::Path, extra: &[&str]) -> (Vec<f64>, Vec<f64>) {
+    let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
+    args.extend_from_slice(extra);
+    let o = flexbody(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let column = |key: &str| serde_json::from_value::<Vec<f64>>(doc[key].clone()).unwrap();
+    (column("frequencies_hz"), column("residuals"))
+}
+
 #[test]
 fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
     // The solid side beam (1668 DOFs, the sparse solver): --fmax 700 Hz
     // gives exactly the modes of --count 12 that lie below 700 Hz.
     let model = solid_side_beam();
-    let run = |extra: &[&str]| -> Vec<f64> {
-        let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
-        args.extend_from_slice(extra);
-        let o = flexbody(&args);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        serde_json::from_value(doc["frequencies_hz"].clone()).unwrap()
-    };
-    let lowest = run(&["--count", "12"]);
-    let band = run(&["--fmax", "700"]);
+    let (lowest, _) = modes_json(&model, &["--count", "12"]);
+    let (band, _) = modes_json(&model, &["--fmax", "700"]);
     let below: Vec<f64> = lowest.iter().copied().filter(|f| *f < 700.0).collect();
     assert!(below.len() > 6 && below.len() < 12, "{lowest:?}");
     assert_eq!(band.len(), below.len());
@@ -446,17 +449,8 @@ fn a_band_above_every_mode_gives_all_of_them_accurately() {
     // Krylov space of the whole model with residuals of 0.1 and out of
     // order). They equal --count over the whole model.
     let model = solid_side_beam();
-    let run = |extra: &[&str]| -> (Vec<f64>, Vec<f64>) {
-        let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
-        args.extend_from_slice(extra);
-        let o = flexbody(&args);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let column = |key: &str| serde_json::from_value::<Vec<f64>>(doc[key].clone()).unwrap();
-        (column("frequencies_hz"), column("residuals"))
-    };
-    let (band, residuals) = run(&["--fmax", "1e6"]);
-    let (every, _) = run(&["--count", "100000"]);
+    let (band, residuals) = modes_json(&model, &["--fmax", "1e6"]);
+    let (every, _) = modes_json(&model, &["--count", "100000"]);
     assert_eq!(band.len(), 1668);
     let worst = residuals.iter().copied().fold(0.0, f64::max);
     assert!(worst < 1e-7, "largest residual {worst:e}");
@@ -464,12 +458,9 @@ fn a_band_above_every_mode_gives_all_of_them_accurately() {
     for (a, b) in band.iter().zip(&every).skip(6) {
         assert!((a - b).abs() <= 1e-10 * b, "{a} vs {b}");
     }
-    let o = flexbody(&["modes", model.to_str().unwrap(), "--count", "0"]);
-    assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains("--count must be at least 1"),
-        "{}",
-        stderr(&o)
+    fails_with(
+        &["modes", model.to_str().unwrap(), "--count", "0"],
+        &["--count must be at least 1"],
     );
 }
 
