@@ -5,7 +5,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use flexbody::reduce::{reduce, reduce_taking, Method, Reduction};
+use flexbody::reduce::{reduce, reduce_taking, reduce_taking_stiffness, Method, Reduction};
 use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -453,10 +453,12 @@ fn run_reduce(
         "never" => false,
         _ => c.sub.len() <= CHECK_UP_TO,
     };
-    // K and M are needed after the reduction only by the comparison and
-    // the SID's invariants; otherwise the solver may drop them.
-    let body = if compare || format == export::Format::Sid {
+    // K and M are needed after the reduction only by the comparison, and
+    // M by the SID's invariants; the solver drops what is not.
+    let body = if compare {
         reduce(&c.sub, &spec)?
+    } else if format == export::Format::Sid {
+        reduce_taking_stiffness(&mut c.sub, &spec)?
     } else {
         reduce_taking(&mut c.sub, &spec)?
     };

@@ -17,7 +17,9 @@ mod products;
 
 pub use body::{ModeKind, ReducedBody};
 pub use error::ReduceError;
-pub use method::{reduce, reduce_taking, ForceGroup, GroundSpring, Method, Reduction};
+pub use method::{
+    reduce, reduce_taking, reduce_taking_stiffness, ForceGroup, GroundSpring, Method, Reduction,
+};
 
 #[cfg(test)]
 mod tests;

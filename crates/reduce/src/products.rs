@@ -2,40 +2,75 @@
 //! with them that the residualisation (eq. 23-24) and the projections
 //! `T^T K T`, `T^T M T` (eq. 5-7) need once the modes are found.
 //!
-//! A caller that hands `K` and `M` over ([`Matrices::Given`]) lets a
-//! large model's solver drop them as soon as it holds its compact copy
+//! A caller that hands `K` and `M` over ([`Held::Given`]) lets a large
+//! model's solver drop them as soon as it holds its compact copy
 //! (the lower triangles in [`ShiftedPencil`]): the factorisations and the
 //! Lanczos run then find the memory of the full matrices free, 2.4 GiB of
 //! a 1e6-DOF solid. The products afterwards come from that copy
 //! ([`Products::Pencil`]), or, for a body held at its interface, from the
 //! copy of the interior plus the few columns that couple it to the
-//! interface ([`Products::Bordered`]).
+//! interface ([`Products::Bordered`]). A caller that needs `M` afterwards
+//! (the SID's mass invariants) hands over `K` alone, 1.2 GiB of that solid.
 
 use faer::{Mat, MatRef};
 use flexbody_linalg::shift_invert::ShiftedPencil;
 use flexbody_linalg::{sparse, SparseMat};
 
-/// `K` and `M` of the model, in full storage.
-pub(crate) enum Matrices<'a> {
-    /// Lent by the caller, who keeps them.
-    Lent(&'a SparseMat, &'a SparseMat),
+/// One of the model's matrices, in full storage, as a reduction holds it.
+pub(crate) enum Held<'a> {
+    /// Lent by the caller, who keeps it.
+    Lent(&'a SparseMat),
     /// Handed over: dropped once a solver holds its compact copy.
-    Given(Box<(SparseMat, SparseMat)>),
+    Given(SparseMat),
 }
 
-impl Matrices<'_> {
-    pub(crate) fn k(&self) -> &SparseMat {
+impl Held<'_> {
+    fn get(&self) -> &SparseMat {
         match self {
-            Matrices::Lent(k, _) => k,
-            Matrices::Given(km) => &km.0,
+            Held::Lent(a) => a,
+            Held::Given(a) => a,
+        }
+    }
+}
+
+/// `K` and `M` of the model, each lent or handed over.
+pub(crate) struct Matrices<'a> {
+    k: Held<'a>,
+    m: Held<'a>,
+}
+
+impl<'a> Matrices<'a> {
+    /// Both lent: the caller keeps them.
+    pub(crate) fn lent(k: &'a SparseMat, m: &'a SparseMat) -> Self {
+        Self {
+            k: Held::Lent(k),
+            m: Held::Lent(m),
         }
     }
 
-    pub(crate) fn m(&self) -> &SparseMat {
-        match self {
-            Matrices::Lent(_, m) => m,
-            Matrices::Given(km) => &km.1,
+    /// Both handed over.
+    pub(crate) fn given(k: SparseMat, m: SparseMat) -> Self {
+        Self {
+            k: Held::Given(k),
+            m: Held::Given(m),
         }
+    }
+
+    /// `K` handed over, `M` lent (a caller that needs the mass afterwards,
+    /// as the SID's invariants do).
+    pub(crate) fn stiffness_given(k: SparseMat, m: &'a SparseMat) -> Self {
+        Self {
+            k: Held::Given(k),
+            m: Held::Lent(m),
+        }
+    }
+
+    pub(crate) fn k(&self) -> &SparseMat {
+        self.k.get()
+    }
+
+    pub(crate) fn m(&self) -> &SparseMat {
+        self.m.get()
     }
 }
 

@@ -439,13 +439,13 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
 }
 
 /// `reduce_taking` (K and M handed over, dropped once the solver holds its
-/// compact copy) gives `reduce`'s body bit for bit, for every method, and
-/// leaves 0 x 0 matrices behind; the reduced K and M from the compact copy
+/// compact copy) and `reduce_taking_stiffness` (K alone) give `reduce`'s
+/// body bit for bit, for every method, and leave 0 x 0 matrices behind; the reduced K and M from the compact copy
 /// (for Craig-Bampton the interior's copy bordered by the interface) are
 /// `T^T K T` and `T^T M T` of the full matrices.
 #[test]
 fn handing_k_and_m_over_gives_the_same_body() {
-    use flexbody_reduce::{reduce_taking, GroundSpring};
+    use flexbody_reduce::{reduce_taking, reduce_taking_stiffness, GroundSpring};
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     assert!(s.len() - 12 >= SPARSE_FROM);
     // The 4 corner nodes of the end x = 0 (nodes 1, 11, 34, 44).
@@ -476,6 +476,16 @@ fn handing_k_and_m_over_gives_the_same_body() {
         assert!(body.basis == lent.basis, "{method}");
         assert!(body.stiffness == lent.stiffness, "{method}");
         assert!(body.mass == lent.mass, "{method}");
+        // K alone handed over (for the SID's invariants): M stays as it was.
+        let mut kept = s.clone();
+        let with_mass = reduce_taking_stiffness(&mut kept, &spec).unwrap();
+        assert_eq!(kept.matrices.stiffness.nrows(), 0, "{method}");
+        let (m, m0) = (kept.matrices.mass.as_ref(), s.matrices.mass.as_ref());
+        assert!(m.col_ptr() == m0.col_ptr() && m.row_idx() == m0.row_idx());
+        assert!(m.val() == m0.val(), "{method}");
+        assert!(with_mass.basis == lent.basis, "{method}");
+        assert!(with_mass.stiffness == lent.stiffness, "{method}");
+        assert!(with_mass.mass == lent.mass, "{method}");
         let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
         for (got, want) in [
             (&body.stiffness, sparse::project(k, body.basis.as_ref())),

@@ -109,8 +109,7 @@ pub fn eigenmodes_owned(
     mass: SparseMat,
     band: Band,
 ) -> Result<(EigenModes, Vec<f64>), ReduceError> {
-    let (modes, residuals, _) =
-        eigenmodes_from(Matrices::Given(Box::new((stiffness, mass))), band)?;
+    let (modes, residuals, _) = eigenmodes_from(Matrices::given(stiffness, mass), band)?;
     Ok((modes, residuals))
 }
 

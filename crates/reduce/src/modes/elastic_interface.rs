@@ -45,7 +45,7 @@ pub fn elastic_residual_modes(
     rigid: &RigidModes,
     band: Band,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
-    let matrices = Matrices::Lent(stiffness, mass);
+    let matrices = Matrices::lent(stiffness, mass);
     let (psi, phi, _) =
         elastic_residual_modes_from(matrices, springs.clone(), boundary, dof_map, rigid, band)?;
     Ok((psi, phi))

@@ -31,7 +31,7 @@ pub fn craig_bampton_modes(
     rigid: &RigidModes,
     band: Band,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
-    let matrices = Matrices::Lent(stiffness, mass);
+    let matrices = Matrices::lent(stiffness, mass);
     let (psi, phi, _) = craig_bampton_modes_from(matrices, boundary, dof_map, rigid, band)?;
     Ok((psi, phi))
 }

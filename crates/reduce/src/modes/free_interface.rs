@@ -42,7 +42,7 @@ pub fn inertia_relief_and_free_modes(
     dof_map: &DofMap,
     band: Band,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
-    let matrices = Matrices::Lent(stiffness, mass);
+    let matrices = Matrices::lent(stiffness, mass);
     let (t_a, all, _) =
         inertia_relief_and_free_modes_from(matrices, rigid, loads, support, dof_map, band)?;
     Ok((t_a, all))
