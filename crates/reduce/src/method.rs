@@ -18,6 +18,7 @@ use crate::modes::eigen::eigenmodes_from;
 use crate::modes::elastic_interface::elastic_residual_modes_from;
 use crate::modes::fixed_interface::craig_bampton_modes_from;
 use crate::modes::free_interface::inertia_relief_and_free_modes_from;
+use crate::modes::zero_modes::{check_zeros, count_zeros, ZERO_GAP};
 use crate::modes::{
     self, eigenmodes, rigid_body_modes, statically_determinate_support, unit_loads, Band,
     RigidModes,
@@ -269,12 +270,25 @@ fn reduce_from(
             if band(0) == Band::Lowest(0) {
                 return Err(ReduceError::NoModes);
             }
-            let (phi, _, products) = eigenmodes_from(matrices, band(0))?;
+            // One eigenmode beyond the rigid-body modes at least: a
+            // mechanism's zero would be the next (eq. 12-13 give nr).
+            let (nr, n) = (rigid.count(), sub.len());
+            let wanted = match band(0) {
+                Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
+                within => within,
+            };
+            let (mut phi, _, products) = eigenmodes_from(matrices, wanted)?;
             if phi.values.is_empty() {
                 return Err(ReduceError::NoModes);
             }
-            if phi.values.len() > rigid.count() {
-                check_gap(&phi.values, rigid.count())?;
+            check_zeros(&phi.values, nr, n, |c| products.lowest_eigenvalues(c))?;
+            if phi.values.len() <= nr && phi.values.len() < n {
+                // A band of rigid-body modes alone: the next one tells.
+                let next = products.lowest_eigenvalues(nr + 1)?;
+                check_zeros(&next, nr, n, |c| products.lowest_eigenvalues(c))?;
+            }
+            if let Band::Lowest(count) = band(0) {
+                phi = phi.slice(0, count.min(phi.values.len()));
             }
             let kinds = phi
                 .frequencies_hz()
@@ -336,7 +350,9 @@ fn reduce_from(
                 map,
                 band(nr),
             )?;
-            check_gap(&all.values, nr)?;
+            check_zeros(&all.values, nr, sub.len(), |c| {
+                products.lowest_eigenvalues(c)
+            })?;
             let e = match band(nr) {
                 Band::Lowest(_) => spec.modes,
                 Band::BelowHz(_) => all.values.len().saturating_sub(nr),
@@ -494,7 +510,9 @@ fn null_space_modes(sub: &Substructure) -> Result<RigidModes, ReduceError> {
     let top = v.last().copied().unwrap_or(0.0);
     let count = leading_zeros(v, top, ZERO_GAP);
     if count == 7 {
-        return Err(ReduceError::FreeMechanism { zero: 7, rigid: 6 });
+        let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
+        let zero = count_zeros(v.clone(), n, |c| Ok(eigenmodes(k, m, c)?.values))?;
+        return Err(ReduceError::FreeMechanism { zero, rigid: 6 });
     }
     Ok(RigidModes {
         vectors: pairs.vectors.subcols(0, count).to_owned(),
@@ -502,32 +520,6 @@ fn null_space_modes(sub: &Substructure) -> Result<RigidModes, ReduceError> {
             .map(|k| format!("zero-energy mode {k}"))
             .collect(),
     })
-}
-
-/// How far the first elastic eigenvalue lies above the round-off zeros of
-/// the rigid-body modes. A mechanism's zero comes out at their size (within
-/// a factor 5 in the tests); a long planar beam of 2100 elements, whose
-/// stiffness spans 13 decades, has its first elastic eigenvalue only 3.4e4
-/// above its rigid zeros (27 and 73).
-const ZERO_GAP: f64 = 1e3;
-
-/// The first `nr` eigenvalues are the rigid-body modes (round-off zeros);
-/// the next must be clearly elastic, else the body has a mechanism.
-fn check_gap(values: &[f64], nr: usize) -> Result<(), ReduceError> {
-    if values.len() <= nr {
-        return Ok(());
-    }
-    let rigid_max = values[..nr].iter().fold(0.0_f64, |a, b| a.max(b.abs()));
-    let first = values[nr];
-    let scale = values.last().copied().unwrap_or(0.0).abs();
-    if first <= ZERO_GAP * rigid_max || first <= 1e-14 * scale {
-        let zero = leading_zeros(values, scale, ZERO_GAP);
-        return Err(ReduceError::FreeMechanism {
-            zero: zero.max(nr + 1),
-            rigid: nr,
-        });
-    }
-    Ok(())
 }
 
 /// Sparse `sum_n c_n d_n d_n^T` on the translations of each spring's node.

@@ -12,6 +12,8 @@
 //! interface ([`Products::Bordered`]). A caller that needs `M` afterwards
 //! (the SID's mass invariants) hands over `K` alone, 1.2 GiB of that solid.
 
+use crate::modes::eigen::{eigenmodes, eigenmodes_on, Band};
+use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_linalg::shift_invert::ShiftedPencil;
 use flexbody_linalg::{sparse, SparseMat};
@@ -164,6 +166,20 @@ impl Bordered {
 }
 
 impl Products<'_> {
+    /// The lowest `count` eigenvalues of the free model's `K` and `M`, to
+    /// count a mechanism's zero modes ([`crate::modes::zero_modes`]); none
+    /// from the pencil of a body held at its interface or on springs, which
+    /// is not the free body's.
+    pub(crate) fn lowest_eigenvalues(&self, count: usize) -> Result<Vec<f64>, ReduceError> {
+        match self {
+            Products::Full(matrices) => Ok(eigenmodes(matrices.k(), matrices.m(), count)?.values),
+            Products::Pencil(pencil) => {
+                Ok(eigenmodes_on(pencil, None, Band::Lowest(count), None)?.values)
+            }
+            Products::Bordered(_) | Products::Sprung(_) => Ok(Vec::new()),
+        }
+    }
+
     /// `K X`.
     pub(crate) fn mul_stiffness(&self, x: MatRef<'_, f64>) -> Mat<f64> {
         match self {

@@ -212,7 +212,7 @@ fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
 #[test]
 fn a_mechanism_is_reported_with_its_zero_mode_count() {
     // A bar with one element hanging on a single node: 9 zero-frequency
-    // modes (6 rigid + 3 rotations about that node).
+    // modes (6 rigid + 3 rotations of the element about that node).
     let s = block(12, 4, 4, [1.2, 0.2, 0.2], true);
     assert!(s.len() >= SPARSE_FROM, "{} DOFs", s.len());
     let found = lanczos(
@@ -226,12 +226,46 @@ fn a_mechanism_is_reported_with_its_zero_mode_count() {
     let v = &found.pairs.values;
     let zero = v.iter().filter(|l| l.abs() < 1e-6 * v[11]).count();
     assert_eq!(zero, 9, "{v:?}");
-    let spec = Reduction::new(Method::Free, 12, vec![]);
-    match reduce(&s, &spec) {
-        Err(ReduceError::FreeMechanism { zero, rigid }) => {
-            assert_eq!((zero, rigid), (9, 6));
+    // Every free method names the count, on the sparse path (1053 DOFs)
+    // and the dense one (69 DOFs), K and M lent or handed over: `free`
+    // with no more modes than rigid ones (once reduced silently), with one
+    // more (once "7 zero-frequency modes", all it had computed), and
+    // free-residual (once only "K on the support is singular at a DOF").
+    let small = block(3, 1, 1, [0.3, 0.1, 0.1], true);
+    assert!(small.len() < SPARSE_FROM);
+    let interface: Vec<Dof> = [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+        .map(|k| Dof::new(1, k))
+        .to_vec();
+    for model in [&s, &small] {
+        for (method, modes) in [
+            (Method::Free, 12),
+            (Method::Free, 6),
+            (Method::Free, 7),
+            (Method::FreeResidual, 4),
+        ] {
+            let spec = Reduction::new(method, modes, interface.clone());
+            let lent = reduce(model, &spec);
+            let given = flexbody_reduce::reduce_taking(&mut model.clone(), &spec);
+            for result in [lent, given] {
+                match result {
+                    Err(ReduceError::FreeMechanism { zero, rigid }) => {
+                        assert_eq!((zero, rigid), (9, 6), "{method} {modes}");
+                    }
+                    other => panic!("{method} {modes}: got {:?}", other.map(|b| b.r())),
+                }
+            }
         }
-        other => panic!("expected a mechanism, got {:?}", other.map(|b| b.r())),
+        // Matrices without node positions: the rigid-body modes come from
+        // K's null space, which holds 9 zeros where 6 at most are rigid.
+        let bare = Substructure::from_matrices(
+            model.dof_map.clone(),
+            model.matrices.clone(),
+            Default::default(),
+        );
+        match flexbody_reduce::method::free_body_rigid_modes(&bare) {
+            Err(ReduceError::FreeMechanism { zero, rigid }) => assert_eq!((zero, rigid), (9, 6)),
+            other => panic!("matrices alone: got {:?}", other.map(|r| r.count())),
+        }
     }
 }
 

@@ -20,6 +20,7 @@ use super::eigen::{
 use super::inertia_relief::{
     check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
 };
+use super::zero_modes::mechanism_or;
 use super::{EigenModes, RigidModes};
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
@@ -67,7 +68,13 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     // Small models, and a quarter of all modes or more: dense.
     if dense_path(n, at_least(band)) {
         let (stiffness, mass) = (matrices.k(), matrices.m());
-        let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)?;
+        let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)
+            .map_err(|e| match e {
+                held @ ReduceError::Singular { .. } => {
+                    mechanism_or(held, nr, n, |c| Ok(eigenmodes(stiffness, mass, c)?.values))
+                }
+                other => other,
+            })?;
         let mut all = eigenmodes_in(stiffness, mass, at_least(band))?;
         if all.values.len() <= nr && all.values.len() < n {
             // A band without elastic modes: the gap check needs one.
@@ -103,10 +110,15 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     let held = pencil
         .factorize_static(support, &*hook)
         .map_err(|e| match e {
-            LinalgError::Singular { index, .. } => ReduceError::Singular {
-                what: SUPPORTED,
-                dof: dof_map.dof(index),
-            },
+            LinalgError::Singular { index, .. } => {
+                let held = ReduceError::Singular {
+                    what: SUPPORTED,
+                    dof: dof_map.dof(index),
+                };
+                mechanism_or(held, nr, n, |c| {
+                    Ok(eigenmodes_on(&pencil, None, Band::Lowest(c), None)?.values)
+                })
+            }
             other => other.into(),
         })?;
     hook.report(&Stage::Solves {

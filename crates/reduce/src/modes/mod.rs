@@ -9,6 +9,7 @@ pub mod free_interface;
 pub mod inertia_relief;
 pub mod residual;
 pub mod rigid;
+pub(crate) mod zero_modes;
 
 pub use attachment::{attachment_modes, unit_loads};
 pub use constraint::constraint_modes;
