@@ -291,18 +291,21 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> Result<()> {
-    let file = io::read_model_file(model)?;
-    let result = study::run_study(&file)?;
-    let mut plots = None;
-    if !no_plots {
-        let dir = out.unwrap_or_else(|| {
+    let dir = (!no_plots).then(|| {
+        out.unwrap_or_else(|| {
             let stem = model
                 .file_stem()
                 .map_or("study".into(), |s| s.to_string_lossy().into_owned());
             Path::new("out").join(stem)
-        });
-        std::fs::create_dir_all(&dir)
-            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+        })
+    });
+    let file = io::read_model_file(model)?;
+    if let Some(dir) = &dir {
+        output_folder(dir)?;
+    }
+    let result = study::run_study(&file)?;
+    let mut plots = None;
+    if let Some(dir) = dir {
         for omega in result.references.iter().map(|(o, _)| *o) {
             let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
             for c in result.cases.iter().filter(|c| c.row.omega == omega) {
@@ -432,7 +435,21 @@ fn run_reduce(
     orthonormalize: bool,
     (json, check): (bool, &str),
 ) -> Result<()> {
+    // A wrong output path fails now, not after the reduction.
+    match format {
+        export::Format::Mtx => export::check_folder_writable(out)?,
+        _ => export::check_writable(out)?,
+    }
+    if let Some(path) = vtu {
+        export::check_writable(path)?;
+    }
     let mut c = load(model, matrices)?;
+    if vtu.is_some() && c.model.is_none() {
+        anyhow::bail!(
+            "{}: --vtu needs a mesh; matrices alone have none",
+            model.display()
+        );
+    }
     // The assembly's work arrays go back before the factorisations.
     flexbody::linalg::memory::release_free_memory();
     let mut spec = Reduction::new(method, modes, c.interface(interface)?);
@@ -501,14 +518,8 @@ fn run_reduce(
         export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
     }
     stage_log::step(&format!("written: {}", out.display()));
-    if let Some(path) = vtu {
-        let model = c.model.as_ref().with_context(|| {
-            format!(
-                "{}: --vtu needs a mesh; matrices alone have none",
-                model.display()
-            )
-        })?;
-        export::vtk::write_vtu(model, &body, path)?;
+    if let (Some(path), Some(mesh)) = (vtu, &c.model) {
+        export::vtk::write_vtu(mesh, &body, path)?;
     }
     if json {
         let doc =
@@ -562,6 +573,12 @@ fn run_modes(
         red::modes::Band::Lowest(count) => red::modes::Band::Lowest(count.min(n)),
         other => other,
     };
+    // A free body's rigid-body motions (eq. 12-13), against which its zero
+    // frequencies are counted; none where it is held or strains them.
+    let rigid = (c.sub.support == fem::Support::Free)
+        .then(|| red::method::free_body_rigid_modes(&c.sub).ok())
+        .flatten()
+        .map_or(0, |r| r.count());
     // K and M go to the solver, which drops them once it holds its compact
     // copy. Residuals: ||K phi - lambda M phi|| / ||K phi||; for rigid-body
     // modes, whose K phi is itself round-off, relative to ||K|| ||phi||.
@@ -569,6 +586,9 @@ fn run_modes(
     flexbody::linalg::memory::release_free_memory();
     let (modes, residuals) = red::modes::eigenmodes_owned(matrices.stiffness, matrices.mass, band)?;
     let hz = modes.frequencies_hz();
+    if let Some(note) = mechanism_note(&modes.values, rigid) {
+        eprintln!("warning: {}: {note}", model.display());
+    }
     if json {
         let doc = serde_json::json!({ "dofs": n, "frequencies_hz": hz, "residuals": residuals });
         say!("{}", serde_json::to_string_pretty(&doc)?);
@@ -580,6 +600,27 @@ fn run_modes(
         say!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
     }
     Ok(())
+}
+
+/// A note when the lowest eigenvalues `values` of a free body hold more
+/// round-off zeros than its `rigid` rigid-body motions: a mechanism.
+fn mechanism_note(values: &[f64], rigid: usize) -> Option<String> {
+    if rigid == 0 {
+        return None;
+    }
+    let top = values.last().copied().unwrap_or(0.0);
+    let zero = flexbody::linalg::eigen::leading_zeros(values, top, 1e3);
+    let count = if zero == values.len() {
+        format!("all {zero} modes computed have")
+    } else {
+        format!("{zero} modes have")
+    };
+    (zero > rigid).then(|| {
+        format!(
+            "{count} zero frequency, more than the {rigid} rigid-body motions of a free body: \
+             the model has a mechanism (parts not connected, or DOFs that no element stiffens)"
+        )
+    })
 }
 
 fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
@@ -682,6 +723,14 @@ fn flexible<'a>(
     }
 }
 
+/// Makes the output folder `dir` before a long computation and checks
+/// that it takes files, so that a path that cannot be written fails at once.
+fn output_folder(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    Ok(export::check_folder_writable(dir)?)
+}
+
 /// The model file, its substructure and the body a simulation uses.
 fn vehicle(model: &Path) -> Result<(io::ModelFile, fem::Substructure)> {
     let file = io::read_model_file(model)?;
@@ -695,6 +744,7 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
         .simulation
         .clone()
         .with_context(|| format!("{}: no [simulation] table", model.display()))?;
+    output_folder(out)?;
     // --full runs the FE model itself: nothing to reduce.
     let body = if full {
         None
@@ -703,8 +753,6 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
     };
     let flexible = flexible(&sub, body.as_ref());
     let h = simulate::run_simulation(&file, flexible)?;
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
     simulate::write_csv(&out.join("histories.csv"), "time (s)", &h.times, &h.columns)?;
     let select = |pred: &dyn Fn(&str) -> bool| -> Vec<(&str, &[f64])> {
         h.columns
@@ -795,6 +843,7 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
             model.display()
         )
     })?;
+    output_folder(out)?;
     // --full runs the FE model itself: nothing to reduce.
     let body = if full {
         None
@@ -803,8 +852,6 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
     };
     let flexible = flexible(&sub, body.as_ref());
     let t = simulate::run_frf(&file, flexible)?;
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
     let mut columns = Vec::new();
     for (name, mag, phase) in &t.outputs {
         columns.push((format!("|{name}|"), mag.clone()));

@@ -58,6 +58,57 @@ pub enum ExportError {
     Model(String),
 }
 
+/// The temporary file beside `path` that [`write_atomically`] writes and
+/// renames.
+fn temporary(path: &Path) -> Result<PathBuf, ExportError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path.file_name().ok_or_else(|| ExportError::Write {
+        path: path.to_path_buf(),
+        cause: std::io::Error::other("not a file path"),
+    })?;
+    Ok(dir.join(format!(
+        ".{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    )))
+}
+
+/// Checks, before a long computation, that [`write_atomically`] will be
+/// able to write `path`: no folder is in its place, and its folder exists
+/// and takes a new file (created and removed again).
+pub fn check_writable(path: &Path) -> Result<(), ExportError> {
+    let err = |cause| ExportError::Write {
+        path: path.to_path_buf(),
+        cause,
+    };
+    if path.is_dir() {
+        return Err(err(std::io::Error::other("it is a folder")));
+    }
+    let tmp = temporary(path)?;
+    std::fs::File::create(&tmp).map_err(err)?;
+    let _ = std::fs::remove_file(&tmp);
+    Ok(())
+}
+
+/// Checks, before a long computation, that a folder of files can be
+/// written at `dir`: an existing folder takes a new file, or a new one can
+/// be made beside its siblings.
+pub fn check_folder_writable(dir: &Path) -> Result<(), ExportError> {
+    if dir.is_dir() {
+        return check_writable(&dir.join("index.json"));
+    }
+    if dir.exists() {
+        return Err(ExportError::Write {
+            path: dir.to_path_buf(),
+            cause: std::io::Error::other("a file is in the folder's place"),
+        });
+    }
+    check_writable(dir)
+}
+
 /// Writes `bytes` to `path` through a temporary file and a rename.
 pub fn write_atomically(
     path: &Path,
@@ -67,18 +118,7 @@ pub fn write_atomically(
         path: path.to_path_buf(),
         cause: source,
     };
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| err(std::io::Error::other("not a file path")))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+    let tmp = temporary(path)?;
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
         let mut out = std::io::BufWriter::new(file);
