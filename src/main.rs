@@ -609,7 +609,7 @@ fn mechanism_note(values: &[f64], rigid: usize) -> Option<String> {
         return None;
     }
     let top = values.last().copied().unwrap_or(0.0);
-    let zero = flexbody::linalg::eigen::leading_zeros(values, top, 1e3);
+    let zero = flexbody::linalg::eigen::leading_zeros(values, top, red::modes::ZERO_GAP);
     let count = if zero == values.len() {
         format!("all {zero} modes computed have")
     } else {

@@ -163,7 +163,7 @@ pub fn generalized_symmetric(
     let trace_k: f64 = (0..n).map(|i| k[(i, i)].abs()).sum();
     let trace_m: f64 = (0..n).map(|i| m[(i, i)].abs()).sum();
     if trace_m == 0.0 {
-        return Err(LinalgError::NotPositiveDefinite { index: 0 });
+        return Err(LinalgError::NoMass);
     }
     let found = lowest(k, m, trace_k / trace_m)?;
     if found.values.len() == n {

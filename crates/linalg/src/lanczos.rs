@@ -255,7 +255,7 @@ pub fn lanczos_on(
     let trace_k: f64 = k_diag.iter().map(|v| v.abs()).sum();
     let trace_m: f64 = m_diag.iter().map(|v| v.abs()).sum();
     if trace_m == 0.0 || n == 0 {
-        return Err(LinalgError::NotPositiveDefinite { index: 0 });
+        return Err(LinalgError::NoMass);
     }
     let sigma = match held {
         Some(_) => 0.0,

@@ -45,9 +45,9 @@ pub enum LinalgError {
         pivot: f64,
         diagonal: f64,
     },
-    /// The mass matrix (or another matrix that must be positive definite) is not.
-    #[error("matrix is not positive definite at row {index}")]
-    NotPositiveDefinite { index: usize },
+    /// The mass matrix is zero: an eigen solve needs mass.
+    #[error("the mass matrix is zero: natural frequencies need mass (is every density 0?)")]
+    NoMass,
     /// Dimensions of the operands do not agree.
     #[error("dimension mismatch: {0}")]
     Dimension(String),

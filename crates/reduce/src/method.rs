@@ -157,9 +157,9 @@ pub fn reduce_taking(sub: &mut Substructure, spec: &Reduction) -> Result<Reduced
 }
 
 /// [`reduce_taking`] for a caller that needs `sub`'s mass afterwards (the
-/// SID's mass invariants): only the stiffness is
-/// taken out of `sub` and dropped once the solver holds its compact copy
-/// (1.2 GiB of a 1e6-DOF solid). The body is [`reduce`]'s bit for bit.
+/// SID's mass invariants): only the stiffness is taken out of `sub` and
+/// dropped once the solver holds its compact copy (1.2 GiB of a 1e6-DOF
+/// solid). The body is [`reduce`]'s bit for bit.
 pub fn reduce_taking_stiffness(
     sub: &mut Substructure,
     spec: &Reduction,

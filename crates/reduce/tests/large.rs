@@ -761,3 +761,100 @@ fn a_band_bounded_on_an_eigenvalue_is_no_error() {
         assert_close(&band.pairs.values, &dense[..len], 1e-10);
     }
 }
+
+/// A bar of `nx` C3D8 elements (0.1 x 0.05 x 0.05 m each) whose element
+/// `e` (from 0) has the density `density(e)`.
+fn bar_of_densities(nx: usize, density: impl Fn(usize) -> f64) -> Substructure {
+    let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + 2 * k)) as u64;
+    let mut nodes = Vec::new();
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..=nx {
+                let x = [0.1 * i as f64, 0.05 * j as f64, 0.05 * k as f64];
+                nodes.push(Node {
+                    id: id(i, j, k),
+                    coords: x,
+                });
+            }
+        }
+    }
+    let elements = (0..nx)
+        .map(|i| {
+            Element::Solid(Solid {
+                id: i + 1,
+                kind: SolidKind::C3D8,
+                nodes: vec![
+                    id(i, 0, 0),
+                    id(i + 1, 0, 0),
+                    id(i + 1, 1, 0),
+                    id(i, 1, 0),
+                    id(i, 0, 1),
+                    id(i + 1, 0, 1),
+                    id(i + 1, 1, 1),
+                    id(i, 1, 1),
+                ],
+                material: Material::new(2.1e11, 0.3, density(i)).unwrap(),
+            })
+        })
+        .collect();
+    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
+    Substructure::from_model(&model).unwrap()
+}
+
+/// DOFs that carry no mass (the last element of a bar of density 0) have
+/// no finite eigenvalue. A band gives the finite ones below it: those of
+/// K condensed on the DOFs with mass (exact for them, eq. 15), and a count
+/// beyond them says how many there are. A model without any mass is
+/// refused by name on both paths.
+#[test]
+fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
+    use faer::linalg::solvers::Solve;
+    use flexbody_reduce::modes::{eigenmodes, eigenmodes_in, Band};
+    let s = bar_of_densities(2, |e| if e == 0 { 7850.0 } else { 0.0 });
+    let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
+    let n = s.len();
+    // Equations of the 4 nodes at x = 0.2 m, which only the massless
+    // element holds, and the others.
+    let light: Vec<usize> = (0..n)
+        .filter(|&i| s.node_coordinates(s.dof_map.dof(i).node).unwrap()[0] > 0.15)
+        .collect();
+    let heavy: Vec<usize> = (0..n).filter(|i| !light.contains(i)).collect();
+    assert_eq!((light.len(), heavy.len()), (12, 24));
+    let (kd, md) = (sparse::to_dense(k), sparse::to_dense(m));
+    let block = |a: &Mat<f64>, r: &[usize], c: &[usize]| {
+        Mat::from_fn(r.len(), c.len(), |i, j| a[(r[i], c[j])])
+    };
+    let k_ss = block(&kd, &light, &light);
+    let k_sm = block(&kd, &light, &heavy);
+    let x = k_ss.llt(faer::Side::Lower).unwrap().solve(&k_sm);
+    let mut condensed = block(&kd, &heavy, &heavy) - k_sm.transpose() * &x;
+    sparse::symmetrize(&mut condensed);
+    let want = flexbody_linalg::eigen::generalized_symmetric(
+        condensed.as_ref(),
+        block(&md, &heavy, &heavy).as_ref(),
+    )
+    .unwrap()
+    .values;
+    let got = eigenmodes_in(k, m, Band::BelowHz(1e9)).unwrap().values;
+    assert_eq!(got.len(), 24);
+    let top = want[23];
+    for (g, w) in got.iter().zip(&want) {
+        assert!(
+            (g - w).abs() < 1e-10 * w.abs().max(1e-6 * top),
+            "{g} vs {w}"
+        );
+    }
+    match eigenmodes(k, m, 30) {
+        Err(ReduceError::NotEnoughModes {
+            requested: 30,
+            available: 24,
+        }) => {}
+        other => panic!("got {:?}", other.map(|p| p.values.len())),
+    }
+    // No mass at all: 36 DOFs (dense) and 372 (Lanczos).
+    for nx in [2, 30] {
+        let s = bar_of_densities(nx, |_| 0.0);
+        let err = eigenmodes(&s.matrices.stiffness, &s.matrices.mass, 6).unwrap_err();
+        assert!(err.to_string().contains("the mass matrix is zero"), "{err}");
+    }
+}

@@ -93,7 +93,8 @@ pub fn eigenmodes_in(
         )?;
         return Ok(found.pairs);
     }
-    let all = eigenmodes_with(stiffness, mass, n, EigenSolver::Dense)?;
+    // Every finite eigenvalue: fewer than n where DOFs carry no mass.
+    let all = dense_all(stiffness, mass)?;
     let below = all.values.iter().filter(|l| **l < limit).count();
     Ok(all.slice(0, below))
 }
@@ -206,14 +207,7 @@ pub fn eigenmodes_with(
         }
         return Ok(found.pairs);
     }
-    if n > DENSE_LIMIT {
-        return Err(ReduceError::TooLargeForDense {
-            dofs: n,
-            limit: DENSE_LIMIT,
-        });
-    }
-    ensure_dense_room(n, 2)?;
-    let pairs = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
+    let pairs = dense_all(stiffness, mass)?;
     let available = pairs.values.len();
     if count > available {
         return Err(ReduceError::NotEnoughModes {
@@ -221,10 +215,24 @@ pub fn eigenmodes_with(
             available,
         });
     }
-    Ok(EigenModes {
-        values: pairs.values[..count].to_vec(),
-        vectors: pairs.vectors.subcols(0, count).to_owned(),
-    })
+    Ok(pairs.slice(0, count))
+}
+
+/// Every finite eigenpair by the dense solver (up to [`DENSE_LIMIT`] DOFs):
+/// as many as the model has DOFs, less those that carry no mass.
+fn dense_all(stiffness: &SparseMat, mass: &SparseMat) -> Result<EigenModes, ReduceError> {
+    let n = stiffness.nrows();
+    if n > DENSE_LIMIT {
+        return Err(ReduceError::TooLargeForDense {
+            dofs: n,
+            limit: DENSE_LIMIT,
+        });
+    }
+    ensure_dense_room(n, 2)?;
+    Ok(generalized_symmetric(
+        stiffness.to_dense().as_ref(),
+        mass.to_dense().as_ref(),
+    )?)
 }
 
 /// The eigenpairs of `band` by the Lanczos solver on a pencil the caller

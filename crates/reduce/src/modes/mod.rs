@@ -25,6 +25,7 @@ pub use inertia_relief::{
 };
 pub use residual::residual_modes;
 pub use rigid::{rigid_body_modes, RigidModes};
+pub use zero_modes::ZERO_GAP;
 
 use faer::Mat;
 

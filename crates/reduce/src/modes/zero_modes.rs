@@ -11,7 +11,7 @@ use flexbody_linalg::eigen::leading_zeros;
 /// a factor 5 in the tests); a long planar beam of 2100 elements, whose
 /// stiffness spans 13 decades, has its first elastic eigenvalue only 3.4e4
 /// above its rigid zeros (27 and 73).
-pub(crate) const ZERO_GAP: f64 = 1e3;
+pub const ZERO_GAP: f64 = 1e3;
 
 /// The first `nr` of the lowest eigenvalues `values` (ascending) are the
 /// rigid-body modes (round-off zeros); the next must be clearly elastic,
