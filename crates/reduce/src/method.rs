@@ -15,7 +15,7 @@
 
 use crate::body::{ModeKind, ReducedBody};
 use crate::modes::eigen::eigenmodes_from;
-use crate::modes::elastic_interface::elastic_residual_modes_from;
+use crate::modes::elastic_interface::{elastic_residual_modes_from, free_rigid_motions};
 use crate::modes::fixed_interface::craig_bampton_modes_from;
 use crate::modes::free_interface::inertia_relief_and_free_modes_from;
 use crate::modes::zero_modes::{check_zeros, count_zeros, ZERO_GAP};
@@ -316,8 +316,20 @@ fn reduce_from(
         }
         Method::ElasticResidual => {
             let springs = support_stiffness(sub, &spec.springs)?;
-            let (psi, phi, products) =
-                elastic_residual_modes_from(matrices, springs, &boundary, map, &rigid, band(0))?;
+            // Rigid-body motions the springs leave free are zero-frequency
+            // eigenmodes of K + C, which the constraint modes span already
+            // (eq. 14-17): in the basis they would make it dependent. They
+            // stay out, and e counts the eigenmodes beyond them, as for
+            // free-residual.
+            let free = free_rigid_motions(&springs, &rigid)?;
+            let (psi, all, products) =
+                elastic_residual_modes_from(matrices, springs, &boundary, map, &rigid, band(free))?;
+            if free > 0 {
+                check_zeros(&all.values, free, sub.len(), |c| {
+                    products.lowest_eigenvalues(c)
+                })?;
+            }
+            let phi = all.slice(free.min(all.values.len()), all.values.len());
             let res = products.residual_modes(&psi, &phi.vectors);
             let mut kinds: Vec<ModeKind> = boundary
                 .iter()
@@ -453,8 +465,6 @@ fn group_loads(sub: &Substructure, groups: &[ForceGroup]) -> Result<Mat<f64>, Re
     Ok(p)
 }
 
-/// Number of eigenvalues of `(k, m)` below `(2 pi f)^2`: more modes are
-/// requested until one lies above the band.
 /// Equation numbers of `dofs`, checked: known, free, not repeated.
 pub fn interface_equations(sub: &Substructure, dofs: &[Dof]) -> Result<Vec<usize>, ReduceError> {
     let mut eq = Vec::with_capacity(dofs.len());

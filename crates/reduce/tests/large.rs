@@ -858,3 +858,64 @@ fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
         assert!(err.to_string().contains("the mass matrix is zero"), "{err}");
     }
 }
+
+/// Springs that leave rigid-body motions free (none, or one spring in x)
+/// make those motions zero-frequency eigenmodes of K + C, which the
+/// constraint modes span already: elastic-residual keeps them out and its
+/// e eigenmodes are elastic ones. The basis is independent (once it was
+/// not: the dense solve of the reduced body failed, the Lanczos path gave
+/// spurious near-zero frequencies), the free reduced body has
+/// its 6 rigid-body zeros and elastic frequencies above the full model's;
+/// without springs the 10 eigenmodes are the free body's, so its first 10
+/// elastic frequencies are the full model's, to round-off.
+#[test]
+fn elastic_residual_keeps_rigid_motions_the_springs_leave_free_out_of_the_basis() {
+    use flexbody_reduce::GroundSpring;
+    for (nx, ny, nz) in [(10, 3, 3), (3, 1, 1)] {
+        let s = block(nx, ny, nz, [1.0, 0.2, 0.2], false);
+        // Three corners of the end x = 0 hold the body statically.
+        let corners = [1, (nx + 1) * ny + 1, (nx + 1) * (ny + 1) * nz + 1];
+        let interface: Vec<Dof> = corners
+            .iter()
+            .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n as u64, k)))
+            .collect();
+        let full = eigenmodes_with(
+            &s.matrices.stiffness,
+            &s.matrices.mass,
+            16,
+            EigenSolver::Dense,
+        )
+        .unwrap()
+        .frequencies_hz();
+        let one = GroundSpring {
+            node: 1,
+            direction: [1.0, 0.0, 0.0],
+            stiffness: 1e7,
+        };
+        for springs in [vec![], vec![one]] {
+            let mut spec = Reduction::new(Method::ElasticResidual, 10, interface.clone());
+            spec.springs = springs.clone();
+            let body = reduce(&s, &spec).unwrap();
+            assert_eq!(body.r(), 9 + 10);
+            // The Gram matrix of the basis columns scaled to unit length: a
+            // dependent basis has an eigenvalue at round-off (the residual
+            // modes' high-frequency parts, small beside their rigid-body
+            // parts, put the smallest at 3e-9 here).
+            let t = &body.basis;
+            let norms: Vec<f64> = (0..19).map(|j| t.col(j).norm_l2()).collect();
+            let gram = t.transpose() * t;
+            let scaled = Mat::from_fn(19, 19, |i, j| gram[(i, j)] / (norms[i] * norms[j]));
+            let lowest = scaled.self_adjoint_eigenvalues(faer::Side::Lower).unwrap();
+            assert!(lowest[0] > 1e-12, "{lowest:?}");
+            let f = body.frequencies_hz().unwrap();
+            assert_eq!(f.len(), 19);
+            assert!(f[..6].iter().all(|x| *x < 1e-2) && f[6] > 100.0, "{f:?}");
+            for (got, want) in f[6..16].iter().zip(&full[6..16]) {
+                assert!(*got >= want * (1.0 - 1e-10), "{got} below {want}");
+                if springs.is_empty() {
+                    assert!((got - want).abs() < 1e-8 * want, "{got} vs {want}");
+                }
+            }
+        }
+    }
+}

@@ -246,18 +246,29 @@ fn on_equations(c: &SparseMat, equations: &[usize]) -> bool {
 }
 
 /// Whether the springs hold every rigid-body motion of `rigid` (none: `K`
-/// is regular already): `R^T C R` positive definite.
+/// is regular already).
 fn supports_rigid_motion(springs: &SparseMat, rigid: &RigidModes) -> Result<bool, ReduceError> {
+    Ok(free_rigid_motions(springs, rigid)? == 0)
+}
+
+/// How many rigid-body motions of `rigid` the springs `C` leave free: the
+/// null space of `R^T C R` (eigenvalues at most 1e-10 of the largest; all
+/// of them without springs). They are zero-frequency eigenmodes of
+/// `K + C`.
+pub(crate) fn free_rigid_motions(
+    springs: &SparseMat,
+    rigid: &RigidModes,
+) -> Result<usize, ReduceError> {
     let r = &rigid.vectors;
     if r.ncols() == 0 {
-        return Ok(true);
+        return Ok(0);
     }
     let g = sparse::project(springs, r.as_ref());
     let s = g
         .self_adjoint_eigenvalues(faer::Side::Lower)
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))?;
     let largest = s.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
-    Ok(s.iter().all(|&l| l > 1e-10 * largest))
+    Ok(s.iter().filter(|&&l| l <= 1e-10 * largest).count())
 }
 
 /// The factor of `K + C` at shift 0 if it is positive definite; `None` if
