@@ -680,11 +680,10 @@ impl Operator<'_> {
         }
         let f = self.factor.as_ref().expect("factorised above");
         if self.sign > 0.0 && f.inertia().negative > 0 {
-            return Err(LinalgError::Dimension(format!(
-                "the Lanczos shift {:e} lies above {} eigenvalues; it must lie below the spectrum",
-                self.sigma,
-                f.inertia().negative
-            )));
+            return Err(LinalgError::NotSemiDefinite {
+                count: f.inertia().negative,
+                bound: self.sigma,
+            });
         }
         Ok(f)
     }

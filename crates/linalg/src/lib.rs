@@ -45,6 +45,10 @@ pub enum LinalgError {
         pivot: f64,
         diagonal: f64,
     },
+    /// Eigenvalues lie below a bound that none may cross: below a shift
+    /// under the rigid-body modes' zeros, or clearly negative.
+    #[error("{count} eigenvalue(s) of K phi = lambda M phi lie below {bound:e} (1/s^2), where none may: K is not positive semi-definite (a structure unstable under its preload, a negative stiffness) or M is not positive")]
+    NotSemiDefinite { count: usize, bound: f64 },
     /// The mass matrix is zero: an eigen solve needs mass.
     #[error("the mass matrix is zero: natural frequencies need mass (is every density 0?)")]
     NoMass,

@@ -21,7 +21,7 @@ use flexbody_linalg::eigen::{ensure_dense_room, generalized_symmetric};
 use flexbody_linalg::lanczos::{lanczos, lanczos_on, Held, LanczosParams, SparseEigen, Wanted};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
-use flexbody_linalg::{sparse, SparseMat};
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// Largest model the dense eigen path accepts.
 pub const DENSE_LIMIT: usize = 6000;
@@ -229,10 +229,16 @@ fn dense_all(stiffness: &SparseMat, mass: &SparseMat) -> Result<EigenModes, Redu
         });
     }
     ensure_dense_room(n, 2)?;
-    Ok(generalized_symmetric(
-        stiffness.to_dense().as_ref(),
-        mass.to_dense().as_ref(),
-    )?)
+    let pairs = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
+    // Round-off zeros of rigid-body modes may be slightly negative; an
+    // eigenvalue below -1e-8 of the largest is not round-off.
+    let top = pairs.values.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    let bound = -1e-8 * top;
+    let count = pairs.values.iter().filter(|&&l| l < bound).count();
+    if count > 0 {
+        return Err(LinalgError::NotSemiDefinite { count, bound }.into());
+    }
+    Ok(pairs)
 }
 
 /// The eigenpairs of `band` by the Lanczos solver on a pencil the caller
