@@ -62,6 +62,7 @@ pub fn read_calculix_matrices(job: &Path) -> Result<MatrixModel, InputError> {
     let read = |ext: &str| {
         let path = with_suffix(job, ext);
         let entries = parse_calculix_matrix(&path, &read_text(&path)?, &dof_path, dof_map.len())?;
+        no_negative_diagonal(&path, &entries, &dof_map)?;
         symmetric_from_triangle(&path, dof_map.len(), &entries)
     };
     Ok(MatrixModel {
@@ -95,6 +96,7 @@ pub fn read_matrix_market(
                 ),
             ));
         }
+        no_negative_diagonal(path, &file.entries, &dof_map)?;
         match file.symmetry {
             Symmetry::Symmetric => symmetric_from_triangle(path, file.size, &file.entries),
             Symmetry::General => symmetric_from_general(path, file.size, &file.entries),
@@ -114,6 +116,23 @@ struct Entry {
     col: usize,
     value: f64,
     line: usize,
+}
+
+/// A stiffness or mass matrix is positive semi-definite, so no diagonal
+/// entry is negative (`e_i^T A e_i = A_ii`): one that is names its DOF.
+fn no_negative_diagonal(path: &Path, entries: &[Entry], dofs: &DofMap) -> Result<(), InputError> {
+    match entries.iter().find(|e| e.row == e.col && e.value < 0.0) {
+        Some(e) => Err(invalid(
+            path,
+            Some(e.line),
+            format!(
+                "diagonal entry {:e} at {} is negative: a stiffness or mass matrix is positive semi-definite",
+                e.value,
+                dofs.dof(e.row)
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 fn invalid(path: &Path, line: Option<usize>, message: impl Into<String>) -> InputError {
@@ -649,6 +668,11 @@ mod tests {
                 3,
                 "twice (first on line 2)",
             ),
+            (
+                "1 1 4.0\n1 2 1.0\n2 2 -1.0\n3 3 1.0\n",
+                3,
+                "diagonal entry -1e0 at node 7 uz is negative",
+            ),
         ];
         for (sti, line, what) in cases {
             let e = read_calculix_matrices(&calculix_job(&dir, DOF, sti, MAS)).unwrap_err();
@@ -762,6 +786,11 @@ mod tests {
                 "%%MatrixMarket matrix coordinate real symmetric\n3 3 1\n1 1 4\n2 2 5\n",
                 4,
                 "more entries than the 1",
+            ),
+            (
+                "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 4\n2 2 5\n3 3 -6\n",
+                5,
+                "diagonal entry -6e0 at node 12 uy is negative",
             ),
             (
                 "%%MatrixMarket matrix coordinate real symmetric\n3 3 2\n% c\n1 1 4\n4 2 5\n",
