@@ -300,9 +300,7 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         })
     });
     let file = io::read_model_file(model)?;
-    if let Some(dir) = &dir {
-        output_folder(dir)?;
-    }
+    let folder = dir.as_deref().map(output_folder).transpose()?;
     let result = study::run_study(&file)?;
     let mut plots = None;
     if let Some(dir) = dir {
@@ -359,6 +357,9 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
                 .map_err(anyhow::Error::msg)?;
         }
         plots = Some(dir);
+    }
+    if let Some(folder) = folder {
+        folder.keep();
     }
     if json {
         let doc = serde_json::json!({ "cases": result.rows() });
@@ -724,11 +725,45 @@ fn flexible<'a>(
 }
 
 /// Makes the output folder `dir` before a long computation and checks
-/// that it takes files, so that a path that cannot be written fails at once.
-fn output_folder(dir: &Path) -> Result<()> {
+/// that it takes files, so that a path that cannot be written fails at
+/// once. The folders it made are removed again, if still empty, unless the
+/// command keeps them ([`OutputFolder::keep`]) when it succeeds.
+fn output_folder(dir: &Path) -> Result<OutputFolder> {
+    let folder = OutputFolder {
+        made: dir
+            .ancestors()
+            .take_while(|d| !d.exists())
+            .map(Path::to_path_buf)
+            .collect(),
+        keep: false,
+    };
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create directory", dir.display()))?;
-    Ok(export::check_folder_writable(dir)?)
+    export::check_folder_writable(dir)?;
+    Ok(folder)
+}
+
+/// The folders [`output_folder`] made, deepest first.
+struct OutputFolder {
+    made: Vec<PathBuf>,
+    keep: bool,
+}
+
+impl OutputFolder {
+    fn keep(mut self) {
+        self.keep = true;
+    }
+}
+
+impl Drop for OutputFolder {
+    fn drop(&mut self) {
+        if !self.keep {
+            for dir in &self.made {
+                // Fails, and keeps the folder, where files were written.
+                let _ = std::fs::remove_dir(dir);
+            }
+        }
+    }
 }
 
 /// The model file, its substructure and the body a simulation uses.
@@ -744,7 +779,7 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
         .simulation
         .clone()
         .with_context(|| format!("{}: no [simulation] table", model.display()))?;
-    output_folder(out)?;
+    let folder = output_folder(out)?;
     // --full runs the FE model itself: nothing to reduce.
     let body = if full {
         None
@@ -754,6 +789,7 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
     let flexible = flexible(&sub, body.as_ref());
     let h = simulate::run_simulation(&file, flexible)?;
     simulate::write_csv(&out.join("histories.csv"), "time (s)", &h.times, &h.columns)?;
+    folder.keep();
     let select = |pred: &dyn Fn(&str) -> bool| -> Vec<(&str, &[f64])> {
         h.columns
             .iter()
@@ -843,7 +879,7 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
             model.display()
         )
     })?;
-    output_folder(out)?;
+    let folder = output_folder(out)?;
     // --full runs the FE model itself: nothing to reduce.
     let body = if full {
         None
@@ -858,6 +894,7 @@ fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
         columns.push((format!("phase {name} (rad)"), phase.clone()));
     }
     simulate::write_csv(&out.join("frf.csv"), "f (Hz)", &t.frequencies_hz, &columns)?;
+    folder.keep();
     let mags: Vec<(&str, &[f64])> = t
         .outputs
         .iter()

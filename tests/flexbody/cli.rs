@@ -509,6 +509,15 @@ fn reduce_refuses_an_output_it_cannot_write_before_it_reduces() {
             &["a_file/plots", "cannot create directory"],
         );
     }
+    // A command that fails after making its folder takes it away again:
+    // the vehicle has no [study] table.
+    let new = dir.path().join("new");
+    let deeper = new.join("deeper");
+    fails_with(
+        &["study", vehicle, "--out", deeper.to_str().unwrap()],
+        &["no [study] table"],
+    );
+    assert!(!new.exists());
 }
 
 #[test]
