@@ -732,7 +732,7 @@ fn output_folder(dir: &Path) -> Result<OutputFolder> {
     let folder = OutputFolder {
         made: dir
             .ancestors()
-            .take_while(|d| !d.exists())
+            .take_while(|d| !d.as_os_str().is_empty() && !d.exists())
             .map(Path::to_path_buf)
             .collect(),
         keep: false,
