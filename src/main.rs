@@ -575,11 +575,12 @@ fn run_modes(
         other => other,
     };
     // A free body's rigid-body motions (eq. 12-13), against which its zero
-    // frequencies are counted; none where it is held or strains them.
-    let rigid = (c.sub.support == fem::Support::Free)
-        .then(|| red::method::free_body_rigid_modes(&c.sub).ok())
-        .flatten()
-        .map_or(0, |r| r.count());
+    // frequencies are counted (from geometry: no products with K or M on
+    // the way to the solver); none where it is held.
+    let rigid = match c.sub.support {
+        fem::Support::Free => red::modes::rigid_motion_count(&c.sub),
+        _ => 0,
+    };
     // K and M go to the solver, which drops them once it holds its compact
     // copy. Residuals: ||K phi - lambda M phi|| / ||K phi||; for rigid-body
     // modes, whose K phi is itself round-off, relative to ||K|| ||phi||.

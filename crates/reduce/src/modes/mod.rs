@@ -24,7 +24,7 @@ pub use inertia_relief::{
     inertia_relief_attachment_modes, self_equilibrated_loads, statically_determinate_support,
 };
 pub use residual::residual_modes;
-pub use rigid::{rigid_body_modes, RigidModes};
+pub use rigid::{rigid_body_modes, rigid_motion_count, RigidModes};
 pub use zero_modes::ZERO_GAP;
 
 use faer::Mat;

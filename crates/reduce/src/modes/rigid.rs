@@ -73,6 +73,20 @@ pub fn rigid_body_modes(sub: &Substructure, reference: [f64; 3]) -> RigidModes {
     }
 }
 
+/// How many rigid-body motions (eq. 12-13) the DOFs of `sub` can carry,
+/// from geometry alone: the rank of `T^T T` about the node centroid
+/// (eigenvalues above 1e-10 of the largest). Without M or K products, for
+/// a count where [`rigid_body_modes`] is more than needed.
+pub fn rigid_motion_count(sub: &Substructure) -> usize {
+    let t = rigid_body_transformation(sub, sub.centroid());
+    let gram = t.transpose() * &t;
+    let Ok(s) = gram.self_adjoint_eigenvalues(faer::Side::Lower) else {
+        return 0;
+    };
+    let largest = s.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    s.iter().filter(|&&l| l > 1e-10 * largest).count()
+}
+
 /// `||K T_st|| / (||K|| ||T_st||)` in max norms: zero (round-off) for a free
 /// body.
 pub fn strain_energy_ratio(stiffness: &SparseMat, rigid: &RigidModes) -> f64 {
