@@ -13,6 +13,20 @@ fn list(dofs: &[Dof]) -> String {
     format!("{}{}", shown.join(", "), more)
 }
 
+/// What holds the body at its interface, for [`ReduceError::BodyMechanism`].
+fn held(interface: &[Dof], rigid: usize) -> String {
+    match rigid {
+        0 => format!(
+            "the model is supported and the interface DOFs ({}) are held",
+            list(interface)
+        ),
+        _ => format!(
+            "the interface DOFs ({}) hold all {rigid} rigid-body motions",
+            list(interface)
+        ),
+    }
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ReduceError {
     /// K_NN of static condensation is singular (eq. 15): the boundary DOFs
@@ -25,6 +39,21 @@ pub enum ReduceError {
         list(.free)
     )]
     Mechanism { interface: Vec<Dof>, free: Vec<Dof> },
+    /// K_NN of static condensation is singular although the interface
+    /// holds the body's `rigid` rigid-body motions (none for a supported
+    /// body): the body has a mechanism of its own, which no choice of
+    /// interface DOFs among these or of method reduces.
+    #[error(
+        "K_NN is singular at {dof} although {}: the body has a mechanism of its own (a part \
+         not connected to the rest, a hinge, a support that does not hold the body, or a DOF \
+         no element stiffens), which no reduction method removes; check the mesh near {dof}",
+        held(.interface, *.rigid)
+    )]
+    BodyMechanism {
+        interface: Vec<Dof>,
+        dof: Dof,
+        rigid: usize,
+    },
     /// A stiffness matrix is singular at a DOF (an internal mechanism).
     #[error("{what} is singular at {dof}: that DOF can move without strain (a mechanism, or a DOF no element stiffens)")]
     Singular { what: &'static str, dof: Dof },

@@ -331,8 +331,9 @@ fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
     assert!(err.to_string().contains("node 1 uz"), "{err}");
 }
 
-#[test]
-fn two_unconnected_beams_are_a_mechanism_of_the_free_body() {
+/// Two planar beams of 4 elements (nodes 1-5 and 101-105) that share no
+/// node: 4 zero frequencies where a planar body has 2 rigid-body motions.
+fn two_unconnected_beams() -> Model {
     let one = planar_beam(4);
     let mut nodes = one.nodes().to_vec();
     let mut elements = one.elements().to_vec();
@@ -351,10 +352,65 @@ fn two_unconnected_beams_are_a_mechanism_of_the_free_body() {
             }));
         }
     }
-    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
-    let err = reduce(&sub(&model), &Reduction::new(Method::Free, 6, vec![])).unwrap_err();
+    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+}
+
+#[test]
+fn two_unconnected_beams_are_a_mechanism_of_the_free_body() {
+    let err = reduce(
+        &sub(&two_unconnected_beams()),
+        &Reduction::new(Method::Free, 6, vec![]),
+    )
+    .unwrap_err();
     assert!(
         matches!(err, ReduceError::FreeMechanism { rigid: 2, .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_interface_that_holds_the_rigid_motions_names_the_bodys_own_mechanism() {
+    // Node 1 and 5 hold heave and pitch of the whole (eq. 12-13), but the
+    // second beam is free: K_NN is singular there, and another method is
+    // no way out (free-residual counts 4 zero modes).
+    let model = two_unconnected_beams();
+    for method in [Method::CraigBampton, Method::Guyan, Method::ElasticResidual] {
+        let mut spec = Reduction::new(
+            method,
+            if method == Method::Guyan { 0 } else { 2 },
+            uz(&[1, 5]),
+        );
+        spec.springs = [1, 5]
+            .map(|node| crate::GroundSpring {
+                node,
+                direction: [0.0, 0.0, 1.0],
+                stiffness: 1e6,
+            })
+            .to_vec();
+        let err = reduce(&sub(&model), &spec).unwrap_err();
+        match &err {
+            ReduceError::BodyMechanism {
+                interface,
+                dof,
+                rigid,
+            } => {
+                assert_eq!(interface, &uz(&[1, 5]), "{method}");
+                assert!((101..=105).contains(&dof.node), "{method}: {dof}");
+                assert_eq!(*rigid, 2);
+            }
+            other => panic!("{method}: expected the body's mechanism, got {other}"),
+        }
+        let text = err.to_string();
+        assert!(text.contains("hold all 2 rigid-body motions"), "{text}");
+        assert!(!text.contains("free-residual"), "{text}");
+    }
+    let err = reduce(
+        &sub(&model),
+        &Reduction::new(Method::FreeResidual, 2, uz(&[1, 5])),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, ReduceError::FreeMechanism { zero: 4, rigid: 2 }),
         "{err}"
     );
 }

@@ -261,6 +261,29 @@ fn a_mechanism_is_reported_with_its_zero_mode_count() {
                 }
             }
         }
+        // Clamped at its end x = 0, the bar is held, the element is not:
+        // K_NN is singular at a DOF of the element, which Craig-Bampton
+        // names as the body's own mechanism (once "use the free-residual
+        // method", which refuses it as above).
+        let face: Vec<Dof> = model
+            .dof_map
+            .dofs()
+            .iter()
+            .filter(|d| model.coordinates[&d.node][0] == 0.0)
+            .copied()
+            .collect();
+        let spec = Reduction::new(Method::CraigBampton, 4, face.clone());
+        match reduce(model, &spec) {
+            Err(ReduceError::BodyMechanism {
+                interface,
+                dof,
+                rigid,
+            }) => {
+                assert_eq!((interface, rigid), (face, 6));
+                assert!(dof.node >= 1_000_000, "{dof}");
+            }
+            other => panic!("Craig-Bampton: got {:?}", other.map(|b| b.r())),
+        }
         // Matrices without node positions: the rigid-body modes come from
         // K's null space, which holds 9 zeros where 6 at most are rigid.
         let bare = Substructure::from_matrices(

@@ -29,7 +29,7 @@ pub fn constraint_modes(
     let k_nn = sparse::submatrix(stiffness, &interior, &interior);
     let k_nh = sparse::submatrix(stiffness, &interior, boundary);
     let ldlt = Ldlt::factorize(&k_nn)
-        .map_err(|e| mechanism_error(e, boundary, dof_map, |k| interior[k]))?;
+        .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |k| interior[k]))?;
     let rhs = -k_nh.to_dense();
     let u_n = ldlt.solve(rhs.as_ref());
     Ok(constraint_columns(n, boundary, &interior, &u_n))
@@ -54,18 +54,22 @@ pub(crate) fn constraint_columns(
 }
 
 /// `e` from factorising `K_NN`, a vanishing pivot named as the mechanism
-/// it is: the interface and the free DOF, `equation(index)` being the
-/// model's equation of the pivot's row.
+/// it is: the interface and the DOF, `equation(index)` being the model's
+/// equation of the pivot's row. Called after [`mechanism_check`] passed:
+/// the interface holds every one of the body's `rigid` rigid-body motions,
+/// so the mechanism is the body's own.
 pub(crate) fn mechanism_error(
     e: LinalgError,
     boundary: &[usize],
     dof_map: &DofMap,
+    rigid: &RigidModes,
     equation: impl Fn(usize) -> usize,
 ) -> ReduceError {
     match e {
-        LinalgError::Singular { index, .. } => ReduceError::Mechanism {
+        LinalgError::Singular { index, .. } => ReduceError::BodyMechanism {
             interface: boundary.iter().map(|&i| dof_map.dof(i)).collect(),
-            free: vec![dof_map.dof(equation(index))],
+            dof: dof_map.dof(equation(index)),
+            rigid: rigid.count(),
         },
         other => other.into(),
     }

@@ -82,7 +82,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     let pencil = &sprung.pencil;
     if band == Band::Lowest(0) {
         // The constraint modes alone: K_NN is the one factorisation.
-        let (psi, _) = held_constraint_modes(pencil, boundary, &interior, dof_map)?;
+        let (psi, _) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
         let phi = EigenModes {
             vectors: Mat::zeros(n, 0),
             values: vec![],
@@ -102,12 +102,12 @@ pub(crate) fn elastic_residual_modes_from<'a>(
                 Some(psi) => psi,
                 // Springs so soft that the flexibility lost the interior
                 // to round-off: K_NN after all.
-                None => held_constraint_modes(pencil, boundary, &interior, dof_map)?.0,
+                None => held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?.0,
             };
             (psi, phi)
         }
         None => {
-            let (psi, held) = held_constraint_modes(pencil, boundary, &interior, dof_map)?;
+            let (psi, held) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
             // The held factor lends its storage to the shifted one.
             (psi, eigenmodes_on(pencil, Some(held), band, None)?)
         }
@@ -198,12 +198,13 @@ fn held_constraint_modes(
     boundary: &[usize],
     interior: &[usize],
     dof_map: &DofMap,
+    rigid: &RigidModes,
 ) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
     let (n, s) = (pencil.dim(), boundary.len());
     let hook = progress::global();
     let held = pencil
         .factorize_static(boundary, &*hook)
-        .map_err(|e| mechanism_error(e, boundary, dof_map, |i| i))?;
+        .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |i| i))?;
     // -K_NH: the interface columns of K + C, interior rows.
     let mut rhs = pencil.mul_stiffness(unit_loads(n, boundary).as_ref());
     for j in 0..s {

@@ -78,7 +78,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     let interior = &bordered.interior;
     let k_factor = pencil
         .factorize_static(&[], &*hook)
-        .map_err(|e| mechanism_error(e, boundary, dof_map, |k| interior[k]))?;
+        .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |k| interior[k]))?;
     let mut u_n = -bordered.k_nb.to_dense();
     hook.report(&Stage::Solves {
         columns: boundary.len(),
