@@ -577,7 +577,8 @@ fn run_modes(
     // A free body's rigid-body motions (eq. 12-13), against which its zero
     // frequencies are counted (from geometry: no products with K or M on
     // the way to the solver); none where it is held.
-    let rigid = match c.sub.support {
+    let support = c.sub.support;
+    let rigid = match support {
         fem::Support::Free => red::modes::rigid_motion_count(&c.sub),
         _ => 0,
     };
@@ -588,7 +589,7 @@ fn run_modes(
     flexbody::linalg::memory::release_free_memory();
     let (modes, residuals) = red::modes::eigenmodes_owned(matrices.stiffness, matrices.mass, band)?;
     let hz = modes.frequencies_hz();
-    if let Some(note) = mechanism_note(&modes.values, rigid) {
+    if let Some(note) = mechanism_note(&modes.values, support, rigid) {
         eprintln!("warning: {}: {note}", model.display());
     }
     if json {
@@ -604,12 +605,11 @@ fn run_modes(
     Ok(())
 }
 
-/// A note when the lowest eigenvalues `values` of a free body hold more
-/// round-off zeros than its `rigid` rigid-body motions: a mechanism.
-fn mechanism_note(values: &[f64], rigid: usize) -> Option<String> {
-    if rigid == 0 {
-        return None;
-    }
+/// A note when the lowest eigenvalues `values` hold more round-off zeros
+/// than the model's rigid-body motions: `rigid` of a free body, none of a
+/// held one (fixed DOFs or springs to ground); nothing for matrices whose
+/// support is unknown.
+fn mechanism_note(values: &[f64], support: fem::Support, rigid: usize) -> Option<String> {
     let top = values.last().copied().unwrap_or(0.0);
     let zero = flexbody::linalg::eigen::leading_zeros(values, top, red::modes::ZERO_GAP);
     let count = if zero == values.len() {
@@ -617,12 +617,18 @@ fn mechanism_note(values: &[f64], rigid: usize) -> Option<String> {
     } else {
         format!("{zero} modes have")
     };
-    (zero > rigid).then(|| {
-        format!(
+    match support {
+        fem::Support::Free if zero > rigid => Some(format!(
             "{count} zero frequency, more than the {rigid} rigid-body motions of a free body: \
              the model has a mechanism (parts not connected, or DOFs that no element stiffens)"
-        )
-    })
+        )),
+        fem::Support::Supported if zero > 0 => Some(format!(
+            "{count} zero frequency although the model is held (fixed DOFs or springs to \
+             ground): its supports leave rigid-body motions free, or it has a mechanism \
+             (parts not connected, or DOFs that no element stiffens)"
+        )),
+        _ => None,
+    }
 }
 
 fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {

@@ -407,7 +407,7 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
              2, 11, 12, 13, 14, 15, 16, 17, 18\n\
              *MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n\
              *SOLID SECTION, ELSET=E, MATERIAL=STEEL\n";
-    std::fs::write(&deck, text).unwrap();
+    std::fs::write(&deck, &text).unwrap();
     let deck = deck.to_str().unwrap();
     let o = flexbody(&["modes", deck, "--count", "14"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -437,6 +437,27 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
         );
     }
     assert!(!out.exists());
+    // Held at four nodes of the first cube, the second is free: its 6
+    // rigid-body motions are zero frequencies of a held model. Held at
+    // four nodes of each, the model has none, and `modes` says nothing.
+    let held = dir.path().join("held.inp");
+    let hold = |nodes: &[u32]| -> String { nodes.iter().map(|n| format!("{n}, 1, 3\n")).collect() };
+    std::fs::write(&held, format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5]))).unwrap();
+    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("6 modes have zero frequency although the model is held"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(
+        &held,
+        format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5, 11, 12, 14, 15])),
+    )
+    .unwrap();
+    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("zero frequency"), "{}", stderr(&o));
 }
 
 #[test]
