@@ -641,4 +641,156 @@ mod tests {
             }
         }
     }
+
+    /// A free steel C3D8 block of 3 x 2 x 2 elements (1.2 x 0.5 x 0.4 m)
+    /// and its free reduction with 6 elastic modes.
+    fn solid_block() -> (Substructure, ReducedBody) {
+        use flexbody_fem::element::solid::{Solid, SolidKind};
+        use flexbody_fem::{Element, Material, Model, Node};
+        let (nx, ny, nz) = (3usize, 2usize, 2usize);
+        let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
+        let mut nodes = Vec::new();
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    nodes.push(Node {
+                        id: id(i, j, k),
+                        coords: [0.4 * i as f64 - 0.3, 0.25 * j as f64 + 0.1, 0.2 * k as f64],
+                    });
+                }
+            }
+        }
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let mut elements = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    elements.push(Element::Solid(Solid {
+                        id: elements.len() + 1,
+                        kind: SolidKind::C3D8,
+                        nodes: vec![
+                            id(i, j, k),
+                            id(i + 1, j, k),
+                            id(i + 1, j + 1, k),
+                            id(i, j + 1, k),
+                            id(i, j, k + 1),
+                            id(i + 1, j, k + 1),
+                            id(i + 1, j + 1, k + 1),
+                            id(i, j + 1, k + 1),
+                        ],
+                        material: steel.clone(),
+                    }));
+                }
+            }
+        }
+        let model = Model::new(nodes, elements, Default::default(), vec![], None).unwrap();
+        let sub = Substructure::from_model(&model).unwrap();
+        let spec = flexbody_reduce::Reduction::new(Method::Free, 12, vec![]);
+        let body = flexbody_reduce::reduce(&sub, &spec).unwrap();
+        (sub, body)
+    }
+
+    #[test]
+    fn invariants_of_a_solid_equal_their_products_with_the_full_mass_matrix() {
+        // The products of two fields go node by node through the scalar
+        // couplings S_pq (`NodeMass`). For a solid, M couples the same
+        // direction of two nodes only, and equally in x, y and z, so
+        // int a_i b_j dm is a^T M g with g carrying b's j-components in the
+        // i-slots: every invariant of the module docs from M itself.
+        let (sub, body) = solid_block();
+        let basis = elastic_basis(&sub, &body).unwrap();
+        assert!(basis.floating);
+        let inv = mass_invariants(&sub, &basis).unwrap();
+        let nq = basis.shapes.ncols();
+        assert_eq!(nq, 6);
+        let map = &sub.dof_map;
+        let n = map.len();
+        let slot = |i: usize| map.dof(i).kind.index();
+        let position: Vec<f64> = (0..n)
+            .map(|i| sub.node_coordinates(map.dof(i).node).unwrap()[slot(i)])
+            .collect();
+        let mode = |k: usize| -> Vec<f64> { (0..n).map(|i| basis.shapes[(i, k)]).collect() };
+        // P(a, b)[i][j] = int a_i b_j dm.
+        let m = &sub.matrices.mass;
+        let p = |a: &[f64], b: &[f64]| -> [[f64; 3]; 3] {
+            std::array::from_fn(|i| {
+                std::array::from_fn(|j| {
+                    let g = Mat::from_fn(n, 1, |r, _| {
+                        if slot(r) != i {
+                            return 0.0;
+                        }
+                        let d = map.dof(r);
+                        let from = map
+                            .index_of(Dof::new(d.node, DofKind::ALL[j]))
+                            .expect("solid nodes carry ux, uy, uz");
+                        b[from]
+                    });
+                    let mg = flexbody_linalg::sparse::symmetric_mul(m, g.as_ref());
+                    (0..n).map(|r| a[r] * mg[(r, 0)]).sum()
+                })
+            })
+        };
+        let tr = |q: &[[f64; 3]; 3]| q[0][0] + q[1][1] + q[2][2];
+        let cross = |q: &[[f64; 3]; 3], a: usize| {
+            let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+            q[b][c] - q[c][b]
+        };
+        let oe_of = |q: &[[f64; 3]; 3]| {
+            let s =
+                |i: usize, j: usize| 0.5 * (q[i][j] + q[j][i]) - if i == j { tr(q) } else { 0.0 };
+            [
+                s(0, 0),
+                s(1, 1),
+                s(2, 2),
+                2.0 * s(0, 1),
+                2.0 * s(1, 2),
+                2.0 * s(2, 0),
+            ]
+        };
+        // Each invariant against its own largest entry.
+        let mut worst = [0.0_f64; 6];
+        let mut scale = [0.0_f64; 6];
+        let mut check = |which: usize, got: f64, want: f64| {
+            worst[which] = worst[which].max((got - want).abs());
+            scale[which] = scale[which].max(want.abs());
+        };
+        let x0 = position.clone();
+        for k in 0..nq {
+            let fk = mode(k);
+            let (xk, kx) = (p(&x0, &fk), p(&fk, &x0));
+            for a in 0..3 {
+                for b in 0..3 {
+                    let delta = if a == b { 2.0 * tr(&xk) } else { 0.0 };
+                    // J1_k = -int (x0~ phi_k~ + phi_k~ x0~) dm.
+                    check(0, inv.j1[k][a][b], delta - kx[a][b] - xk[a][b]);
+                    // Gr block k = -2 int x0~ phi_k~ dm.
+                    check(1, inv.gr[(a, 3 * k + b)], -2.0 * kx[a][b] + delta);
+                }
+            }
+            // Oe row k from int phi_k x0^T dm.
+            for (c, want) in oe_of(&kx).iter().enumerate() {
+                check(2, inv.oe[(k, c)], *want);
+            }
+            for l in 0..nq {
+                let fl = mode(l);
+                let (kl, lk) = (p(&fk, &fl), p(&fl, &fk));
+                for a in 0..3 {
+                    // Ge block l, row k = -2 int phi_k x phi_l dm; Cr1 for
+                    // q_l, row k = int phi_l x phi_k dm.
+                    check(3, inv.ge[(k, 3 * l + a)], -2.0 * cross(&kl, a));
+                    check(4, inv.cr1[l][(k, a)], cross(&lk, a));
+                }
+                for (c, want) in oe_of(&kl).iter().enumerate() {
+                    check(5, inv.oe1[l][(k, c)], *want);
+                }
+            }
+        }
+        for (name, (w, s)) in ["J1", "Gr", "Oe", "Ge", "Cr1", "Oe1"]
+            .iter()
+            .zip(worst.iter().zip(&scale))
+        {
+            assert!(*s > 0.0, "{name} vanishes: no test");
+            assert!(w / s < 1e-12, "{name}: {w:e} of {s:e}");
+        }
+    }
 }
