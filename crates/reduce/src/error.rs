@@ -13,15 +13,20 @@ fn list(dofs: &[Dof]) -> String {
     format!("{}{}", shown.join(", "), more)
 }
 
-/// What holds the body at its interface, for [`ReduceError::BodyMechanism`].
+/// What holds the body at its interface, and what can still move it, for
+/// [`ReduceError::BodyMechanism`].
 fn held(interface: &[Dof], rigid: usize) -> String {
     match rigid {
         0 => format!(
-            "the model is supported and the interface DOFs ({}) are held",
+            "the model is supported and the interface DOFs ({}) are held: the body has a \
+             mechanism of its own (supports that do not hold it, a part not connected to the \
+             rest, a hinge, or a DOF no element stiffens)",
             list(interface)
         ),
         _ => format!(
-            "the interface DOFs ({}) hold all {rigid} rigid-body motions",
+            "the interface DOFs ({}) hold all {rigid} rigid-body motions: the body has a \
+             mechanism of its own (a part not connected to the rest, a hinge, or a DOF no \
+             element stiffens)",
             list(interface)
         ),
     }
@@ -44,9 +49,8 @@ pub enum ReduceError {
     /// body): the body has a mechanism of its own, which no choice of
     /// interface DOFs among these or of method reduces.
     #[error(
-        "K_NN is singular at {dof} although {}: the body has a mechanism of its own (a part \
-         not connected to the rest, a hinge, a support that does not hold the body, or a DOF \
-         no element stiffens), which no reduction method removes; check the mesh near {dof}",
+        "K_NN is singular at {dof} although {}, which no reduction method removes; check \
+         the mesh near {dof}",
         held(.interface, *.rigid)
     )]
     BodyMechanism {
