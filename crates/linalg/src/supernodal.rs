@@ -35,9 +35,12 @@
 //! a hundred rows each), which the hardware prefetcher follows poorly: a
 //! kernel of this shape (`bench/kernel_streams.c`) reads 10-12 GB/s where
 //! one stream of the same entries (four columns interleaved row by row)
-//! reads 17-22 GB/s on this 2-core machine. While a group of four columns runs, each eighth row
-//! asks the cache for the same row of the next group's columns; that took
-//! the beam's 23 sweeps from 2.2-2.3 to 2.1 s.
+//! reads 17-22 GB/s on this 2-core machine. While a group of four columns
+//! runs, each eighth row asks the cache for the same row of the next
+//! group's columns, and the last group of a pass for the columns the next
+//! pass starts with (the next group of a diagonal block, the first group's
+//! top rows after the local ones); that took the beam's 23 sweeps from
+//! 2.2-2.3 to 1.9 s.
 
 use crate::lower::{Lane, LANE};
 use crate::numeric::Shared;
@@ -531,13 +534,13 @@ fn dispatch_scatter(
             rows: &[usize],
             off: usize,
         ) {
-            scatter::<true>(block, 0, from, xs, out, |p| rows[p] - off, rows.len());
+            scatter::<true>(block, 0, from, xs, out, |p| rows[p] - off, rows.len(), None);
         }
         // SAFETY: the CPU has AVX2 and FMA (`has_fma`).
         unsafe { avx2(block, from, xs, out, rows, off) };
         return;
     }
-    scatter::<false>(block, 0, from, xs, out, |p| rows[p] - off, rows.len());
+    scatter::<false>(block, 0, from, xs, out, |p| rows[p] - off, rows.len(), None);
 }
 
 /// [`gather`] into the columns `j0..` from the rows `rows[p] - off`,
@@ -566,13 +569,31 @@ fn dispatch_gather(
             off: usize,
             xs: &mut [Lane],
         ) {
-            gather::<true>(block, j0, from, src, |p| rows[p] - off, rows.len(), xs);
+            gather::<true>(
+                block,
+                j0,
+                from,
+                src,
+                |p| rows[p] - off,
+                rows.len(),
+                xs,
+                None,
+            );
         }
         // SAFETY: the CPU has AVX2 and FMA (`has_fma`).
         unsafe { avx2(block, j0, from, src, rows, off, xs) };
         return;
     }
-    gather::<false>(block, j0, from, src, |p| rows[p] - off, rows.len(), xs);
+    gather::<false>(
+        block,
+        j0,
+        from,
+        src,
+        |p| rows[p] - off,
+        rows.len(),
+        xs,
+        None,
+    );
 }
 
 /// The diagonal block's solve of a step, compiled for the CPU.
@@ -670,7 +691,10 @@ fn lane_step<const FMA: bool>(
     match dir {
         Sweep::Forward => {
             lower_solve::<FMA>(block, xs);
-            scatter::<FMA>(block, 0, size, xs, tail, |p| local[p] - off, inside);
+            // The last group of the local rows prefetches the first one's
+            // top rows, which come next.
+            let then = (size >= 4).then(|| four_columns(block, 0, size + inside, m));
+            scatter::<FMA>(block, 0, size, xs, tail, |p| local[p] - off, inside, then);
             let Top::Write(top_lanes) = &mut rows.top else {
                 unreachable!("a forward sweep writes its top rows")
             };
@@ -682,12 +706,14 @@ fn lane_step<const FMA: bool>(
                 top_lanes,
                 |p| top_index[top[p]],
                 m - size - inside,
+                None,
             );
             // X_s is final: D^-1 now, while it is in cache.
             scale_by_pivots(block, xs);
         }
         Sweep::Backward => {
-            gather::<FMA>(block, 0, size, tail, |p| local[p] - off, inside, xs);
+            let then = (size >= 4).then(|| four_columns(block, 0, size + inside, m));
+            gather::<FMA>(block, 0, size, tail, |p| local[p] - off, inside, xs, then);
             let top_lanes: &[Lane] = match &rows.top {
                 Top::Write(t) => t,
                 Top::Read(t) => t,
@@ -700,6 +726,7 @@ fn lane_step<const FMA: bool>(
                 |p| top_index[top[p]],
                 m - size - inside,
                 xs,
+                None,
             );
             upper_solve::<FMA>(block, xs);
         }
@@ -717,7 +744,9 @@ fn lower_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
         let w = 4.min(n - j);
         lower_triangle::<FMA>(block, j, w, xs);
         let (left, right) = xs.split_at_mut(j + w);
-        scatter::<FMA>(block, j, j + w, &left[j..], right, |p| p, n - j - w);
+        // The next group's columns over the same rows: most of its own.
+        let then = (j + 8 <= n).then(|| four_columns(block, j + 4, j + w, n));
+        scatter::<FMA>(block, j, j + w, &left[j..], right, |p| p, n - j - w, then);
         j += w;
     }
 }
@@ -748,7 +777,8 @@ fn upper_solve<const FMA: bool>(block: MatRef<'_, f64>, xs: &mut [Lane]) {
         let w = 4.min(end);
         let j = end - w;
         let (left, right) = xs.split_at_mut(end);
-        gather::<FMA>(block, j, end, right, |p| p, n - end, &mut left[j..]);
+        let then = (j >= 4).then(|| four_columns(block, j - 4, end, n));
+        gather::<FMA>(block, j, end, right, |p| p, n - end, &mut left[j..], then);
         upper_triangle::<FMA>(block, j, w, xs);
         end = j;
     }
@@ -772,9 +802,12 @@ fn upper_triangle<const FMA: bool>(block: MatRef<'_, f64>, j: usize, w: usize, x
 }
 
 /// `out[row(p)] -= sum_j block[from + p, j] X_s[j]` for `p < count`, four
-/// columns of the block at a time.
+/// columns of the block at a time. Each group prefetches the next group's
+/// rows as it goes, and the last group the columns `then` (those the
+/// caller reads next), row for row.
 // Index loops over the lanes: the form the vectoriser takes best.
 #[allow(clippy::needless_range_loop)]
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn scatter<const FMA: bool>(
     block: MatRef<'_, f64>,
@@ -784,6 +817,7 @@ fn scatter<const FMA: bool>(
     out: &mut [Lane],
     row: impl Fn(usize) -> usize,
     count: usize,
+    then: Option<[&[f64]; 4]>,
 ) {
     if count == 0 {
         return;
@@ -793,7 +827,10 @@ fn scatter<const FMA: bool>(
     let mut j = 0;
     while j + 4 <= size {
         let c = four_columns(block, j0 + j, from, to);
-        let next = (j + 8 <= size).then(|| four_columns(block, j0 + j + 4, from, to));
+        let next = match j + 8 <= size {
+            true => Some(four_columns(block, j0 + j + 4, from, to)),
+            false => then,
+        };
         let x = [xs[j].0, xs[j + 1].0, xs[j + 2].0, xs[j + 3].0];
         for p in 0..count {
             if let (Some(next), 0) = (&next, p % 8) {
@@ -826,9 +863,10 @@ fn scatter<const FMA: bool>(
 }
 
 /// `X_s[j] -= sum_p block[from + p, j] src[row(p)]` for `p < count`, four
-/// columns of the block at a time.
+/// columns of the block at a time, prefetching as [`scatter`] does.
 // Index loops over the lanes: the form the vectoriser takes best.
 #[allow(clippy::needless_range_loop)]
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn gather<const FMA: bool>(
     block: MatRef<'_, f64>,
@@ -838,6 +876,7 @@ fn gather<const FMA: bool>(
     row: impl Fn(usize) -> usize,
     count: usize,
     xs: &mut [Lane],
+    then: Option<[&[f64]; 4]>,
 ) {
     if count == 0 {
         return;
@@ -847,7 +886,10 @@ fn gather<const FMA: bool>(
     let mut j = 0;
     while j + 4 <= size {
         let c = four_columns(block, j0 + j, from, to);
-        let next = (j + 8 <= size).then(|| four_columns(block, j0 + j + 4, from, to));
+        let next = match j + 8 <= size {
+            true => Some(four_columns(block, j0 + j + 4, from, to)),
+            false => then,
+        };
         let mut acc = [[0.0; LANE]; 4];
         for p in 0..count {
             if let (Some(next), 0) = (&next, p % 8) {
