@@ -642,6 +642,8 @@ fn four_columns(block: MatRef<'_, f64>, j: usize, from: usize, to: usize) -> [&[
 /// while the current one runs (see [`scatter`]).
 #[inline(always)]
 fn prefetch_row(next: &[&[f64]; 4], p: usize) {
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (next, p);
     #[cfg(target_arch = "x86_64")]
     for c in next {
         if let Some(v) = c.get(p) {
