@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark (issue 7): read and assemble a generated C3D8 mesh, flexbody
+"""Benchmark: read and assemble a generated C3D8 mesh, flexbody
 against CalculiX reading the same deck with *FREQUENCY, SOLVER=MATRIXSTORAGE
 (which reads, assembles, writes K and M, and stops), in the same run.
 

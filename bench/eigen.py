@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of issue 6: the lowest 20 elastic modes (+6 rigid) of free steel
+"""Benchmark: the lowest 20 elastic modes (+6 rigid) of free steel
 box-section beams meshed with C3D8 and C3D10, flexbody against SciPy eigsh
 (SuperLU, and CHOLMOD as OPinv) and CalculiX *FREQUENCY, side by side; then
 the free-residual and Craig-Bampton reductions (4 interface nodes = 12 DOFs)
@@ -22,7 +22,7 @@ ratio of each peer's time to flexbody's, and every tool's
 elastic frequencies are checked against flexbody's (relative 1e-6). K and M
 for SciPy and Exudyn come from CalculiX's MATRIXSTORAGE output of the same
 deck (not timed; SciPy's time includes reading them, eigsh alone is shown).
-The reductions also print the floor of issue 6: one ordering plus one
+The reductions also print the floor: one ordering plus one
 factorisation of K - sigma M, from flexbody's --verbose log of the modes run.
 """
 import argparse
@@ -171,8 +171,8 @@ def agree(name, hz, ref, least=20):
 
 def reduction_seconds(log):
     """Seconds from the ordering to the reduced body (no reading, no
-    writing) from a --verbose log of flexbody reduce: the stages issue 6's
-    target names (ordering, factorisation, eigenmodes, inertia-relief
+    writing) from a --verbose log of flexbody reduce: the stages a reduction
+    adds to the floor (ordering, factorisation, eigenmodes, inertia-relief
     attachment modes, residualisation)."""
     stamp = r"\[\s*([\d.]+) s[^\]]*\] "
     start = re.search(stamp + "ordering", log)

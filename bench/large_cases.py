@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the large-model cases of the README's benchmark notes beside the
+"""Writes the large-model cases of docs/performance.md beside the
 decks that `bench/eigen.py` generates (run it first, with --sizes 3e5 and,
 for the solid, --types solid --sizes 1e6). SI units.
 

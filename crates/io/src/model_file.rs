@@ -1,6 +1,6 @@
-//! The TOML model file (format documented in the README, section "Model
-//! files"). Raw TOML is deserialised into `Raw*` structs that keep source
-//! spans, then checked and turned into a [`flexbody_fem::Model`] and the MBS
+//! The TOML model file (format documented in `docs/model-file.md`). Raw
+//! TOML is deserialised into `Raw*` structs that keep source spans, then
+//! checked and turned into a [`flexbody_fem::Model`] and the MBS
 //! description, with errors that name the line.
 
 use crate::InputError;
