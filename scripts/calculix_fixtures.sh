@@ -7,8 +7,10 @@
 #   scripts/calculix_fixtures.sh check   (default) regenerate into a temporary
 #                                        directory and compare with the stored
 #                                        fixtures: matrix indices and DOFs
-#                                        exactly, matrix values to 1e-12 of the
-#                                        largest entry, frequencies to 1e-9
+#                                        exactly, matrix values entry by entry
+#                                        (1e-12 of the entry + 1e-13 of
+#                                        sqrt(d_i d_j), d the diagonal),
+#                                        frequencies to 1e-9
 #
 # Needs ccx (CalculiX 2.20; Debian: apt-get install -y calculix-ccx) and
 # python3 (standard library only); the work is in calculix_fixtures.py. ccx

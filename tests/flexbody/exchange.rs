@@ -1,6 +1,6 @@
 //! Reduced-body exchange formats: the SID file (FFRF invariants against the
 //! full model, round trip, broken files), the Matrix Market folder, the VTU
-//! file, format detection, and the data for the Exudyn client check
+//! file, format detection, and Exudyn reading the SID file
 //! (`scripts/exudyn_check.py`).
 
 use flexbody::export::sid::{parse_sid, read_sid, write_sid, Sid};
@@ -437,31 +437,110 @@ fn vtu_holds_the_mesh_the_modes_and_the_stresses() {
     assert_eq!(vtk::cell_types(&file.model), vec![3; 20]);
 }
 
-/// Writes what `scripts/exudyn_check.py` reads into `$FLEXBODY_EXUDYN_DIR`
-/// (skipped unless the variable is set). The body: the free C3D8 bar
-/// `hex_beam` reduced by free-residual (tip node 13, 4 eigenmodes), in its
-/// SID elastic coordinates (mean axes, 7 modes). The reference frame is held
-/// fixed in both codes, so the FFRF equations are linear and the same as
-/// flexbody's: `Me q'' + Ke q = Phi_tip^T f(t)`.
+/// Whether the peer programs (CalculiX, Exudyn) must be present: set
+/// `FLEXBODY_REQUIRE_PEERS=1` (as `.ci/run` does) to make a missing peer a
+/// failure instead of a skipped check.
+fn peers_required() -> bool {
+    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
+}
+
+/// Exudyn, a real MBS client, against flexbody: `scripts/exudyn_check.py`
+/// reads the SID file that `flexbody reduce --format sid` writes for the
+/// free C3D8 bar `hex_beam` (free-residual, tip node 13, 4 eigenmodes; 7
+/// elastic coordinates, mean axes), builds an `ObjectFFRFreducedOrder` from
+/// its invariants alone, and compares it with the same body built by
+/// Exudyn's `FEMinterface` from the full M, K and mode shapes, and with
+/// flexbody's own frequencies and trapezoidal-rule time response of the tip
+/// to a harmonic force (frame held fixed: `Me q'' + Ke q = Phi_tip^T f(t)`),
+/// and the two Exudyn bodies in a short free tumble. The tolerances and
+/// the figures measured are in the script.
 ///
-/// Files: `nodes.txt` (x y z per node, DOF order), `mass.mtx` and
-/// `stiffness.mtx` (full M and K), `modes.mtx` (Phi, m x nq), `body.sid`,
-/// and `flexbody.json` (frequencies, load, settings, tip displacement
-/// history of flexbody's trapezoidal-rule time response).
+/// Skipped, with a message, when `python3` cannot import exudyn, numpy and
+/// scipy, unless [`peers_required`]. With `FLEXBODY_EXUDYN_DIR` set, the
+/// files are kept there (see [`write_exudyn_data`]).
 #[test]
-fn exudyn_check_data() {
+fn exudyn_agrees_with_flexbody() {
+    use std::process::Command;
+    let probe = Command::new("python3")
+        .args(["-c", "import exudyn, numpy, scipy"])
+        .output();
+    if !probe.as_ref().is_ok_and(|o| o.status.success()) {
+        let why = match &probe {
+            Ok(o) => String::from_utf8_lossy(&o.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .to_string(),
+            Err(e) => format!("python3: {e}"),
+        };
+        assert!(
+            !peers_required(),
+            "FLEXBODY_REQUIRE_PEERS=1 but Exudyn is missing ({why}); run scripts/install_peers.sh"
+        );
+        eprintln!("exudyn_agrees_with_flexbody: SKIPPED, Exudyn is not available ({why})");
+        return;
+    }
+    let temporary = tempfile::tempdir().unwrap();
+    let dir = std::env::var_os("FLEXBODY_EXUDYN_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| temporary.path().to_path_buf());
+    write_exudyn_data(&dir);
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/exudyn_check.py");
+    let out = Command::new("python3")
+        .arg(&script)
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("exudyn_agrees_with_flexbody:\n{log}");
+    assert!(
+        out.status.success(),
+        "scripts/exudyn_check.py failed:\n{log}"
+    );
+}
+
+/// Writes what `scripts/exudyn_check.py` reads into `dir`: `body.sid`
+/// (written by the `flexbody reduce --format sid` command), `nodes.txt`
+/// (x y z per node, DOF order), `mass.mtx` and `stiffness.mtx` (full M and
+/// K), `modes.mtx` (the SID's elastic mode shapes Phi, m x nq), and
+/// `flexbody.json` (frequencies, load, settings, tip node, and the tip
+/// displacement history of flexbody's trapezoidal-rule time response).
+fn write_exudyn_data(dir: &std::path::Path) {
     use flexbody::export::ffrf::elastic_basis;
     use flexbody::mbs::time::{simulate, Excitation, History, TimeForce, TimeSettings};
     use flexbody::mbs::{Endpoint, FlexibleBody, System};
     use flexbody::reduce::ModeKind;
-    let Some(dir) = std::env::var_os("FLEXBODY_EXUDYN_DIR").map(PathBuf::from) else {
-        return;
-    };
-    std::fs::create_dir_all(&dir).unwrap();
-    let (sub, model) = hex_beam();
+    std::fs::create_dir_all(dir).unwrap();
+    let (sub, _) = hex_beam();
     let tip = 13;
+    let deck = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
+        .arg("reduce")
+        .arg(&deck)
+        .args(["--interface", &tip.to_string()])
+        .args([
+            "--method",
+            "free-residual",
+            "--modes",
+            "4",
+            "--format",
+            "sid",
+        ])
+        .arg("--out")
+        .arg(dir.join("body.sid"))
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "flexbody reduce: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let body = reduce_with(&sub, Method::FreeResidual, 4, &[tip]);
-    write_sid(&sub, Some(&model), &body, &dir.join("body.sid")).unwrap();
     let basis = elastic_basis(&sub, &body).unwrap();
     let nq = basis.shapes.ncols();
     let elastic = ReducedBody {
@@ -556,6 +635,7 @@ fn exudyn_check_data() {
     let doc = serde_json::json!({
         "frequencies_hz": basis.frequencies_hz,
         "tip_node_index": tip_index.unwrap(),
+        "tip_node_id": tip,
         "force": {"direction": [0.0, 0.0, 1.0], "amplitude": amplitude, "frequency_hz": frequency_hz},
         "step": settings.step,
         "duration": settings.duration,

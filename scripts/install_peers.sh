@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the peer programs of flexbody's independent checks, skipping what
+# is already there; the one place that installs them (.ci/run calls it):
+#   - CalculiX 2.20's ccx (Debian package calculix-ccx), for the element
+#     matrices against a live ccx (crates/fem) and the stored fixtures
+#     (scripts/calculix_fixtures.sh check);
+#   - numpy, scipy and exudyn for python3 (pip), for scripts/exudyn_check.py,
+#     run by the test exchange::exudyn_agrees_with_flexbody.
+# Prints the versions found.
+set -euo pipefail
+
+if ! command -v ccx >/dev/null 2>&1; then
+    sudo=""
+    [ "$(id -u)" = 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    $sudo apt-get install -y -qq calculix-ccx >/dev/null
+fi
+if ! python3 -c "import numpy, scipy, exudyn" >/dev/null 2>&1; then
+    python3 -m pip install --quiet numpy scipy exudyn==1.13.6
+fi
+
+# `ccx -v` exits non-zero.
+ccx_version="$( (ccx -v 2>&1 || true) | grep -m1 -o 'Version [0-9.]*' || true)"
+python_versions="$(python3 -c 'import exudyn, numpy, scipy; print(f"exudyn {exudyn.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}")')"
+echo "peers: ccx ${ccx_version:-of unknown version}, ${python_versions}"
