@@ -4,6 +4,7 @@
 mod calculix;
 mod cli;
 mod decks;
+mod errors;
 mod exchange;
 mod export;
 mod interfaces;

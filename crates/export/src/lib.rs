@@ -344,3 +344,125 @@ pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
             },
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexbody_fem::DofKind;
+
+    /// The names in `dir`, sorted.
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// A free body of three DOFs and two coordinates: unit masses, one
+    /// rigid-body mode and one of 1 rad/s.
+    fn small_body() -> ReducedBody {
+        ReducedBody {
+            method: Method::Free,
+            dof_map: DofMap::new(vec![
+                Dof::new(1, DofKind::Uz),
+                Dof::new(2, DofKind::Uz),
+                Dof::new(3, DofKind::Uz),
+            ]),
+            basis: Mat::from_fn(3, 2, |i, j| if j == 0 { 1.0 } else { i as f64 - 1.0 }),
+            mass: Mat::from_fn(2, 2, |i, j| f64::from(i == j)),
+            stiffness: Mat::from_fn(2, 2, |i, j| f64::from(i == 1 && j == 1)),
+            damping: None,
+            modes: vec![
+                ModeKind::Rigid {
+                    motion: "uz".into(),
+                },
+                ModeKind::Eigen {
+                    frequency_hz: 1.0 / (2.0 * std::f64::consts::PI),
+                },
+            ],
+            interface: vec![],
+        }
+    }
+
+    #[test]
+    fn a_writer_that_fails_after_writing_removes_its_temporary_and_keeps_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("body.json");
+        std::fs::write(&path, "the previous body\n").unwrap();
+        let tmp = temporary(&path).unwrap();
+        // More than the writer's buffer: the bytes reach the temporary file
+        // before the failure.
+        let e = write_atomically(&path, |out| {
+            out.write_all(&[b'x'; 1 << 16])?;
+            assert!(tmp.is_file(), "the temporary exists while writing");
+            assert!(std::fs::metadata(&tmp).unwrap().len() > 0);
+            Err(std::io::Error::other("the disk is full"))
+        })
+        .unwrap_err();
+        match &e {
+            ExportError::Write { path: p, cause } => {
+                assert_eq!(p, &path);
+                assert_eq!(cause.to_string(), "the disk is full");
+            }
+            other => panic!("expected a Write error, got {other}"),
+        }
+        assert!(e.to_string().contains("body.json: cannot write"), "{e}");
+        assert!(!tmp.exists());
+        assert_eq!(names(dir.path()), ["body.json"]);
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "the previous body\n"
+        );
+    }
+
+    #[test]
+    fn a_rename_onto_a_folder_fails_and_removes_the_complete_temporary() {
+        // The whole document is written and synced; only the rename onto
+        // a folder that holds a file fails.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("body.json");
+        std::fs::create_dir(&path).unwrap();
+        std::fs::write(path.join("keep.txt"), "kept").unwrap();
+        let e = write_json(&small_body(), &path).unwrap_err();
+        match &e {
+            ExportError::Write { path: p, .. } => assert_eq!(p, &path),
+            other => panic!("expected a Write error, got {other}"),
+        }
+        assert_eq!(names(dir.path()), ["body.json"]);
+        assert!(path.is_dir());
+        assert_eq!(names(&path), ["keep.txt"]);
+        assert_eq!(
+            std::fs::read_to_string(path.join("keep.txt")).unwrap(),
+            "kept"
+        );
+    }
+
+    #[test]
+    fn a_matrix_market_folder_that_fails_midway_has_no_index() {
+        // `index.json` comes last: a folder whose stiffness cannot be
+        // written has no index, and no temporary of any file.
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("body");
+        std::fs::create_dir_all(folder.join("stiffness.mtx")).unwrap();
+        std::fs::write(folder.join("stiffness.mtx/keep.txt"), "kept").unwrap();
+        let e = mtx::write_mtx(&small_body(), None, &Default::default(), &folder).unwrap_err();
+        match &e {
+            ExportError::Write { path, .. } => assert_eq!(path, &folder.join("stiffness.mtx")),
+            other => panic!("expected a Write error, got {other}"),
+        }
+        let left = names(&folder);
+        assert!(!left.contains(&"index.json".to_string()), "{left:?}");
+        assert!(left.iter().all(|n| !n.ends_with(".tmp")), "{left:?}");
+        // Written without the obstacle, the folder is complete and reads back.
+        std::fs::remove_dir_all(folder.join("stiffness.mtx")).unwrap();
+        mtx::write_mtx(&small_body(), None, &Default::default(), &folder).unwrap();
+        assert_eq!(
+            names(&folder),
+            ["basis.mtx", "index.json", "mass.mtx", "stiffness.mtx"]
+        );
+        let back = mtx::read_mtx(&folder).unwrap();
+        assert_eq!(back.basis, small_body().basis);
+    }
+}

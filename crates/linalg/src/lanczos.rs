@@ -115,6 +115,10 @@ pub struct LanczosParams {
     /// stalls (see the module docs). Without it a count is not checked and
     /// a stalled run goes on at its first shift.
     pub sturm_check: bool,
+    /// Runs after the first that a Sturm check still missing eigenvalues
+    /// allows before the solve is an error (0: the first run must find
+    /// them all).
+    pub sturm_runs: usize,
     /// Fill-reducing ordering of the factorisations.
     pub ordering: Ordering,
 }
@@ -128,6 +132,7 @@ impl Default for LanczosParams {
             shift: None,
             max_steps: 1000,
             sturm_check: true,
+            sturm_runs: 16,
             ordering: Ordering::Auto,
         }
     }
@@ -426,7 +431,7 @@ pub fn lanczos_on(
                 });
                 break;
             }
-            if attempts == MAX_ATTEMPTS {
+            if attempts == params.sturm_runs {
                 return Err(LinalgError::Faer(format!(
                     "the Lanczos runs found {have} of the {count} eigenvalues below \
                      {bound:.6e} (Sturm count) in {attempts} runs after the first"
@@ -1132,10 +1137,6 @@ const FLOOR: f64 = 64.0;
 
 /// Moves of the shift below the band's top after stalls.
 const MAX_MOVES: usize = 4;
-
-/// Runs after the first before a Sturm check that still misses
-/// eigenvalues gives up (with an error).
-const MAX_ATTEMPTS: usize = 16;
 
 /// What one [`krylov_schur`] run found.
 struct Run {

@@ -272,3 +272,96 @@ fn the_shift_above_a_stalled_band_lies_in_the_gap_to_the_next_value() {
     assert_eq!(shift_above(&[2.0, 4.0], 2.0, span), 2.5);
     assert_eq!(shift_above(&[2.0, 2.0000001], 2.0, span), 2.001);
 }
+
+/// A diagonal pencil (`M = I`) with the eigenvalues `lambda`.
+fn diagonal(lambda: &[f64]) -> (SparseMat, SparseMat) {
+    let n = lambda.len();
+    let diag = |v: &dyn Fn(usize) -> f64| {
+        let t: Vec<_> = (0..n).map(|i| Triplet::new(i, i, v(i))).collect();
+        from_triplets(n, n, &t).unwrap()
+    };
+    (diag(&|i| lambda[i]), diag(&|_| 1.0))
+}
+
+/// The first number after `prefix` in `message`, and the text after it.
+fn number_after<'a>(message: &'a str, prefix: &str) -> (f64, &'a str) {
+    let at = message
+        .find(prefix)
+        .unwrap_or_else(|| panic!("no '{prefix}' in: {message}"))
+        + prefix.len();
+    let rest = &message[at..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || "+-.e".contains(c)))
+        .unwrap_or(rest.len());
+    let value = rest[..end]
+        .parse()
+        .unwrap_or_else(|_| panic!("no number after '{prefix}' in: {message}"));
+    (value, &rest[end..])
+}
+
+#[test]
+fn a_sturm_count_the_allowed_runs_do_not_reach_is_an_error_naming_both_counts() {
+    // One start vector finds one vector of the 4-fold eigenvalue 2 (see
+    // the test above); with no run allowed after the first, the count
+    // above the band is not reached: an error, not 6 modes with some of
+    // the eigenvalue 2 missing.
+    let lambda: Vec<f64> = (0..400)
+        .map(|i| if i < 4 { 2.0 } else { 1.0 + i as f64 })
+        .collect();
+    let (k, m) = diagonal(&lambda);
+    let params = LanczosParams {
+        block_size: 1,
+        sturm_runs: 0,
+        ..Default::default()
+    };
+    let e = lanczos(&k, &m, Wanted::Lowest(6), &params, &NoProgress).unwrap_err();
+    let LinalgError::Faer(message) = &e else {
+        panic!("expected the Sturm mismatch, got {e}");
+    };
+    let (found, rest) = number_after(message, "the Lanczos runs found ");
+    let (count, rest) = number_after(rest, " of the ");
+    let (bound, rest) = number_after(rest, " eigenvalues below ");
+    assert!(
+        rest.starts_with(" (Sturm count) in 0 runs after the first"),
+        "{message}"
+    );
+    // The bound lies above the 6 wanted eigenvalues (the highest is 6);
+    // the count is the eigenvalues below it, the found ones fewer.
+    assert!(bound > 6.0, "{message}");
+    let below = lambda.iter().filter(|&&l| l < bound).count();
+    assert_eq!(count, below as f64, "{message}");
+    assert!(found < count, "{message}");
+    // The runs allowed by default find them all.
+    let params = LanczosParams {
+        block_size: 1,
+        ..Default::default()
+    };
+    let got = solve(&k, &m, Wanted::Lowest(6), &params);
+    assert_same(&got.pairs.values, &[2.0, 2.0, 2.0, 2.0, 5.0, 6.0], 1e-12);
+}
+
+#[test]
+fn more_eigenvalues_than_the_sturm_count_are_an_error_not_modes() {
+    // A tolerance of 0.9 accepts Ritz pairs far from convergence: the
+    // first run's vectors are poor, the run above the band finds again
+    // what they left out, and the two together hold more eigenvalues
+    // below the Sturm bound than there are.
+    let (k, m) = lattice(9, 4, 3, true, false);
+    let params = LanczosParams {
+        tolerance: 0.9,
+        ..Default::default()
+    };
+    let e = lanczos(&k, &m, Wanted::Lowest(20), &params, &NoProgress).unwrap_err();
+    let LinalgError::Faer(message) = &e else {
+        panic!("expected the Sturm mismatch, got {e}");
+    };
+    let (found, rest) = number_after(message, "the Lanczos runs found ");
+    let (bound, rest) = number_after(rest, " eigenvalues below ");
+    let (count, rest) = number_after(rest, " where the Sturm count has ");
+    assert_eq!(rest, ": spurious eigenpairs", "{message}");
+    // The count is the dense solver's eigenvalues below the bound.
+    let below = dense(&k, &m).iter().filter(|&&l| l < bound).count();
+    assert!(below >= 20, "{message}");
+    assert_eq!(count, below as f64, "{message}");
+    assert!(found > count, "{message}");
+}
