@@ -31,10 +31,20 @@ fn the_reports_findings_hold_on_the_solid_side_beam() {
     );
     let rows = run_study(&file).unwrap().rows();
     // Free-residual: 6 rigid + 8 residual inertia-relief modes, no elastic
-    // mode below the heave band: interface forces and peak von Mises within
-    // 1 % statically and at 122 rad/s.
+    // mode below the heave band: exact statically (measured: w 5.0e-9,
+    // forces 1.2e-8, von Mises 1.1e-8; round-off of the coupled solve),
+    // and at 122 rad/s the forces to 5.2e-7 and von Mises to 2.3e-3 (the
+    // eigenmodes left out). Bounds at 3-5 times those.
     for c in rows_of(&rows, Method::FreeResidual, 14) {
-        assert!(c.err_force < 1e-2 && c.err_vm.unwrap() < 1e-2, "{c:?}");
+        let (w, force, vm) = if c.omega == STATIC {
+            (3e-8, 5e-8, 5e-8)
+        } else {
+            (1.5e-5, 2e-6, 7e-3)
+        };
+        assert!(
+            c.err_w < w && c.err_force < force && c.err_vm.unwrap() < vm,
+            "{c:?}"
+        );
     }
     // Free-interface modes alone do not (statically, von Mises).
     for r in [10, 20, 40] {
@@ -49,10 +59,11 @@ fn the_reports_findings_hold_on_the_solid_side_beam() {
         .iter()
         .filter(|c| c.method == Method::CraigBampton)
         .collect();
+    // Measured: w 2.4e-9, forces 6.6e-9, von Mises 6.1e-9.
     assert!(cb
         .iter()
         .filter(|c| c.omega == STATIC)
-        .all(|c| c.err_vm.unwrap() < 1e-6));
+        .all(|c| c.err_w < 1e-8 && c.err_force < 3e-8 && c.err_vm.unwrap() < 3e-8));
     assert!(cb
         .iter()
         .filter(|c| c.omega == HEAVE)
@@ -124,7 +135,38 @@ fn eigenmodes_are_selected_by_band() {
         spec.max_frequency_hz = Some(fmax);
         reduce(&sub, &spec).unwrap().r()
     };
-    // Free body: 2 rigid modes at 0 Hz, elastic at 249 Hz and 687 Hz.
+    // Free body: 2 rigid modes at 0 Hz, elastic at 249 Hz and 687 Hz: a
+    // free-free Euler-Bernoulli beam's f_n = (beta_n L)^2 / (2 pi L^2)
+    // sqrt(EI / rho A), beta_1 L = 4.7300, beta_2 L = 7.8532 (Blevins,
+    // Formulas for Natural Frequency and Mode Shape, table 8-1), with the
+    // box 0.24 x 0.20 m, wall 0.012 m, E = 2.1e11 Pa, rho = 6800 kg/m^3,
+    // L = 2.5 m of examples/side_beam.toml.
+    let (b, h, t, l) = (0.24_f64, 0.20_f64, 0.012, 2.5);
+    let area = b * h - (b - 2.0 * t) * (h - 2.0 * t);
+    let iy = (b * h.powi(3) - (b - 2.0 * t) * (h - 2.0 * t).powi(3)) / 12.0;
+    let closed_form: Vec<f64> = [4.7300_f64, 7.8532]
+        .iter()
+        .map(|bl| {
+            bl * bl / (2.0 * std::f64::consts::PI * l * l) * (2.1e11 * iy / (6800.0 * area)).sqrt()
+        })
+        .collect();
+    let fe = reduce(
+        &sub,
+        &Reduction::new(Method::Free, 4, file.interface.clone()),
+    )
+    .unwrap()
+    .frequencies_hz()
+    .unwrap();
+    for (k, f) in closed_form.iter().enumerate() {
+        // 20 cubic elements: measured 1.9e-5 and 1.7e-5 above the closed
+        // form (the discretisation, and beta L to 5 digits)
+        assert!(
+            (fe[2 + k] - f).abs() < 1e-4 * f,
+            "mode {k}: {} vs {f}",
+            fe[2 + k]
+        );
+    }
+    assert!(100.0 < closed_form[0] && closed_form[0] < 300.0 && closed_form[1] < 700.0);
     assert_eq!(band(Method::Free, 100.0), 2);
     assert_eq!(band(Method::Free, 300.0), 3);
     assert_eq!(band(Method::FreeResidual, 300.0), 2 + 4 + 1);
