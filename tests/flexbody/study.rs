@@ -492,6 +492,7 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
 
 #[test]
 fn reduce_api_returns_the_reports_seven_coordinates() {
+    let max_abs_of = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     let file = read_model_file(&super::side_beam_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
     let body = reduce(
@@ -502,8 +503,51 @@ fn reduce_api_returns_the_reports_seven_coordinates() {
     assert_eq!(body.r(), 7);
     assert_eq!(body.interface_rows().nrows(), 4);
     // Section forces of the full model need the model, the body only T_e.
-    let u = body.displacements(&[0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
-    assert!(harmonic_section_forces(&file.model, &u, 0.0).unwrap().len() == 20);
+    // Statically (no inertia, loads at the nodes only), each element is in
+    // equilibrium on its own: Qz the same at both ends, My changing by
+    // L Qz over its length (My about +y: a force F_z at x has the moment
+    // -x F_z, as in `equilibrium_section_forces`).
+    let max_abs_of = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let forces = |q: &[f64]| harmonic_section_forces(&file.model, &body.displacements(q), 0.0);
+    let residual_mode = [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+    let elastic = forces(&residual_mode).unwrap();
+    assert_eq!(elastic.len(), 20);
+    let scale = elastic
+        .iter()
+        .flat_map(|e| [e.forces.start[4].abs(), e.forces.end[4].abs()])
+        .fold(0.0, f64::max);
+    assert!(scale > 0.0);
+    let mut worst = 0.0_f64;
+    for e in &elastic {
+        let (q0, q1) = (e.forces.start[2], e.forces.end[2]);
+        let (m0, m1) = (e.forces.start[4], e.forces.end[4]);
+        let l = e.end[0] - e.start[0];
+        worst = worst.max((q1 - q0).abs()).max((m1 - m0 - l * q1).abs());
+    }
+    // measured 5.0e-15
+    assert!(
+        worst < 5e-14 * scale,
+        "element equilibrium: {worst} of {scale}"
+    );
+    // A rigid-body motion strains nothing: its section forces are
+    // round-off of K_e u_e, measured against the forces an elastic
+    // displacement of the same size gives.
+    let elastic_amplitude = max_abs_of(&body.displacements(&residual_mode));
+    for rigid in 0..2 {
+        let mut q = [0.0; 7];
+        q[rigid] = 1.0;
+        let same_size = scale * max_abs_of(&body.displacements(&q)) / elastic_amplitude;
+        let largest = forces(&q)
+            .unwrap()
+            .iter()
+            .flat_map(|e| e.forces.start.iter().chain(&e.forces.end))
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        // measured 0 (heave) and 4.4e-13 (pitch)
+        assert!(
+            largest < 3e-12 * same_size,
+            "rigid mode {rigid}: {largest} of {same_size}"
+        );
+    }
 }
 
 #[test]
