@@ -264,6 +264,7 @@ fn solid_stress_histories_of_reduced_and_full_models_agree() {
             .map(|(x, y)| (x - y).abs())
             .fold(0.0, f64::max)
             / peak;
-        assert!(err < 1e-2, "node {node}: {err:e}");
+        // measured 3.3e-6 (node 53) and 1.4e-6 (node 557)
+        assert!(err < 1.5e-5, "node {node}: {err:e}");
     }
 }

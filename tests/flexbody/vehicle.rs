@@ -105,7 +105,9 @@ fn section_force_histories_of_reduced_and_full_models_agree() {
             .map(|(x, y)| (x - y).abs())
             .fold(0.0, f64::max)
             / scale;
-        assert!(err < 1e-3, "{name}: {err:e}");
+        // measured 7.1e-5, 1.0e-5, 1.4e-6 and 2.2e-4 (the eigenmodes the
+        // basis leaves out)
+        assert!(err < 7e-4, "{name}: {err:e}");
     }
 }
 
@@ -141,12 +143,14 @@ fn steady_state_equals_the_harmonic_response() {
         .filter(|(_, t)| **t > spec.settings.duration - period)
     {
         let (c, s) = ((omega * t).cos(), (omega * t).sin());
+        // measured up to 1.5e-4 (w) and 8.4e-5 (F): the time integration's
+        // error and what is left of the start transient
         assert!(
-            (w[k] - (w_re * c - w_im * s)).abs() < 1e-3 * w_re.hypot(w_im),
+            (w[k] - (w_re * c - w_im * s)).abs() < 5e-4 * w_re.hypot(w_im),
             "t = {t}"
         );
         assert!(
-            (f[k] - (f_re * c - f_im * s)).abs() < 1e-3 * f_re.hypot(f_im),
+            (f[k] - (f_re * c - f_im * s)).abs() < 3e-4 * f_re.hypot(f_im),
             "t = {t}"
         );
     }
