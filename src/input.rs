@@ -7,6 +7,7 @@
 
 use crate::fem::{Dof, Model, Substructure, SystemMatrices};
 use crate::io::{read_model_file, InputError, ModelFile};
+use crate::reduce::{Method, Reduction};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -177,4 +178,24 @@ impl Component {
         }
         Ok(dofs)
     }
+}
+
+/// The reduction of `method` with `modes` eigenmodes on `interface` that
+/// the model file `file` sets up: its support for inertia-relief modes, its
+/// elastic supports, and its force groups where the method takes them
+/// ([`Method::takes_force_groups`]; the others reduce on the interface
+/// DOFs).
+pub fn file_reduction(
+    file: &ModelFile,
+    method: Method,
+    modes: usize,
+    interface: Vec<Dof>,
+) -> Reduction {
+    let mut spec = Reduction::new(method, modes, interface);
+    spec.support = file.support.clone();
+    spec.springs = file.ground_springs();
+    if method.takes_force_groups() {
+        spec.force_groups = file.force_groups.clone();
+    }
+    spec
 }

@@ -11,7 +11,7 @@
 //! Data flows one way, one crate per stage:
 //! [`fem`] (model, K, M) -> [`reduce`] (modes, [`reduce::ReducedBody`]) ->
 //! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
-//! [`study`] and [`plot`] (accuracy report); [`io`] reads model files and
+//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads model files and
 //! [`export`] writes reduced bodies.
 //!
 //! ```no_run
@@ -26,6 +26,7 @@
 
 pub mod input;
 pub mod plot;
+pub mod report;
 pub mod simulate;
 pub mod study;
 

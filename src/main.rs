@@ -5,7 +5,9 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use flexbody::reduce::{reduce, reduce_taking, reduce_taking_stiffness, Method, Reduction};
+use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
+use flexbody::report::{self, Check};
+use flexbody::simulate::HistoryKind;
 use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -453,67 +455,47 @@ fn run_reduce(
     }
     // The assembly's work arrays go back before the factorisations.
     flexbody::linalg::memory::release_free_memory();
-    let mut spec = Reduction::new(method, modes, c.interface(interface)?);
-    spec.max_frequency_hz = fmax;
-    if let Some(file) = &c.file {
-        spec.support = file.support.clone();
-        spec.springs = file.ground_springs();
-        if !matches!(
-            method,
-            Method::CraigBampton | Method::Guyan | Method::ElasticResidual
-        ) {
-            spec.force_groups = file.force_groups.clone();
-        }
-    }
-    spec.orthonormalize = orthonormalize;
-    let compare = match check {
-        "always" => true,
-        "never" => false,
-        _ => c.sub.len() <= CHECK_UP_TO,
+    let interface = c.interface(interface)?;
+    let mut spec = match &c.file {
+        Some(file) => input::file_reduction(file, method, modes, interface),
+        None => Reduction::new(method, modes, interface),
     };
+    spec.max_frequency_hz = fmax;
+    spec.orthonormalize = orthonormalize;
+    let check = match check {
+        "always" => Check::Always,
+        "never" => Check::Never,
+        _ => Check::Auto,
+    };
+    let compare = check.compares(c.sub.len());
     // K and M are needed after the reduction only by the comparison, and
     // M by the SID's invariants; the solver drops what is not.
-    let body = if compare {
-        reduce(&c.sub, &spec)?
+    let keep = if compare {
+        Keep::Both
     } else if format == export::Format::Sid {
-        reduce_taking_stiffness(&mut c.sub, &spec)?
+        Keep::Mass
     } else {
-        reduce_taking(&mut c.sub, &spec)?
+        Keep::Neither
     };
+    let body = reduce_keeping(&mut c.sub, &spec, keep)?;
     stage_log::step(&format!(
         "reduced: r = {} (writing {})",
         body.r(),
         out.display()
     ));
-    let reduced_hz = body.frequencies_hz()?;
-    let count = body.r().min(c.sub.len());
-    let full_hz = if compare {
-        Some(
-            red::modes::eigenmodes(&c.sub.matrices.stiffness, &c.sub.matrices.mass, count)?
-                .frequencies_hz(),
-        )
-    } else {
-        None
-    };
+    let comparison = report::compare_frequencies(&c.sub, &body, compare)?;
+    let (full_hz, reduced_hz) = (&comparison.full_hz, &comparison.reduced_hz);
     if format == export::Format::Mtx {
         // The index carries the accuracy figures: the full model's
-        // frequencies and the relative error of each reduced one (the
-        // highest, those of static modes, are far off by nature).
-        let mut meta = export::mtx::Metadata {
+        // frequencies and the relative error of each reduced one.
+        let meta = export::mtx::Metadata {
             full_frequencies_hz: full_hz.clone(),
-            ..Default::default()
+            accuracy: comparison
+                .relative_errors()
+                .into_iter()
+                .map(|(k, e)| (format!("relative frequency error, mode {k:02}"), e))
+                .collect(),
         };
-        if let Some(full_hz) = &full_hz {
-            let top = full_hz.iter().fold(0.0_f64, |m, f| m.max(*f));
-            for (k, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
-                if *f > 1e-6 * top {
-                    meta.accuracy.insert(
-                        format!("relative frequency error, mode {:02}", k + 1),
-                        (r - f).abs() / f,
-                    );
-                }
-            }
-        }
         export::mtx::write_mtx(&body, Some(&c.sub), &meta, out)?;
     } else {
         export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
@@ -534,19 +516,20 @@ fn run_reduce(
         body.r(),
         out.display()
     );
-    match &full_hz {
+    match full_hz {
         Some(full_hz) => {
             say!("{:>5} {:>14} {:>14}", "mode", "full (Hz)", "reduced (Hz)");
-            for (i, (f, r)) in full_hz.iter().zip(&reduced_hz).enumerate() {
+            for (i, (f, r)) in full_hz.iter().zip(reduced_hz).enumerate() {
                 say!("{:>5} {:>14.6} {:>14.6}", i + 1, f, r);
             }
         }
         None => {
-            if check == "never" {
+            if check == Check::Never {
                 say!("(no comparison with the full model: --check never)");
             } else {
                 say!(
-                    "(no comparison with the full model above {CHECK_UP_TO} DOFs; --check always adds it)"
+                    "(no comparison with the full model above {} DOFs; --check always adds it)",
+                    Check::AUTO_UP_TO
                 );
             }
             say!("{:>5} {:>14}", "mode", "reduced (Hz)");
@@ -558,40 +541,17 @@ fn run_reduce(
     Ok(())
 }
 
-/// Largest model whose reduction `reduce --check auto` compares with the
-/// full model's frequencies (the comparison is one more eigen solve).
-const CHECK_UP_TO: usize = 20_000;
-
 fn run_modes(
     model: &Path,
     matrices: &MatrixArgs,
     band: red::modes::Band,
     json: bool,
 ) -> Result<()> {
-    let c = load(model, matrices)?;
-    let n = c.sub.len();
-    let band = match band {
-        red::modes::Band::Lowest(count) => red::modes::Band::Lowest(count.min(n)),
-        other => other,
-    };
-    // A free body's rigid-body motions (eq. 12-13), against which its zero
-    // frequencies are counted (from geometry: no products with K or M on
-    // the way to the solver); none where it is held.
-    let support = c.sub.support;
-    let rigid = match support {
-        fem::Support::Free => red::modes::rigid_motion_count(&c.sub),
-        _ => 0,
-    };
-    // K and M go to the solver, which drops them once it holds its compact
-    // copy. Residuals: ||K phi - lambda M phi|| / ||K phi||; for rigid-body
-    // modes, whose K phi is itself round-off, relative to ||K|| ||phi||.
-    let matrices = c.into_matrices();
-    flexbody::linalg::memory::release_free_memory();
-    let (modes, residuals) = red::modes::eigenmodes_owned(matrices.stiffness, matrices.mass, band)?;
-    let hz = modes.frequencies_hz();
-    if let Some(note) = mechanism_note(&modes.values, support, rigid) {
-        eprintln!("warning: {}: {note}", model.display());
+    let modes = report::natural_frequencies(load(model, matrices)?, band)?;
+    if let Some(mechanism) = &modes.mechanism {
+        eprintln!("warning: {}: {mechanism}", model.display());
     }
+    let (n, hz, residuals) = (modes.dofs, &modes.frequencies_hz, &modes.residuals);
     if json {
         let doc = serde_json::json!({ "dofs": n, "frequencies_hz": hz, "residuals": residuals });
         say!("{}", serde_json::to_string_pretty(&doc)?);
@@ -599,36 +559,10 @@ fn run_modes(
     }
     say!("{n} DOFs");
     say!("{:>5} {:>14} {:>10}", "mode", "f (Hz)", "residual");
-    for (i, (f, r)) in hz.iter().zip(&residuals).enumerate() {
+    for (i, (f, r)) in hz.iter().zip(residuals).enumerate() {
         say!("{:>5} {:>14.6} {:>10.1e}", i + 1, f, r);
     }
     Ok(())
-}
-
-/// A note when the lowest eigenvalues `values` hold more round-off zeros
-/// than the model's rigid-body motions: `rigid` of a free body, none of a
-/// held one (fixed DOFs or springs to ground); nothing for matrices whose
-/// support is unknown.
-fn mechanism_note(values: &[f64], support: fem::Support, rigid: usize) -> Option<String> {
-    let top = values.last().copied().unwrap_or(0.0);
-    let zero = flexbody::linalg::eigen::leading_zeros(values, top, red::modes::ZERO_GAP);
-    let count = if zero == values.len() {
-        format!("all {zero} modes computed have")
-    } else {
-        format!("{zero} modes have")
-    };
-    match support {
-        fem::Support::Free if zero > rigid => Some(format!(
-            "{count} zero frequency, more than the {rigid} rigid-body motions of a free body: \
-             the model has a mechanism (parts not connected, or DOFs that no element stiffens)"
-        )),
-        fem::Support::Supported if zero > 0 => Some(format!(
-            "{count} zero frequency although the model is held (fixed DOFs or springs to \
-             ground): its supports leave rigid-body motions free, or it has a mechanism \
-             (parts not connected, or DOFs that no element stiffens)"
-        )),
-        _ => None,
-    }
 }
 
 fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
@@ -636,24 +570,6 @@ fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
     let c = load(model, matrices)?;
     let seconds = start.elapsed().as_secs_f64();
     let map = &c.sub.dof_map;
-    // Mass from a unit translation along each axis: t^T M t.
-    let mass_along = |kind: fem::DofKind| {
-        let t: Vec<f64> = map
-            .dofs()
-            .iter()
-            .map(|d| (d.kind == kind) as u8 as f64)
-            .collect();
-        let m = &c.sub.matrices.mass;
-        let r = m.as_ref();
-        (0..map.len())
-            .map(|j| {
-                r.row_idx_of_col(j)
-                    .zip(r.val_of_col(j))
-                    .map(|(i, v)| t[i] * v * t[j])
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-    };
     say!("{}", c.path.display());
     if let Some(m) = &c.model {
         say!("nodes {}, elements {}", m.nodes().len(), m.elements().len());
@@ -665,9 +581,9 @@ fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
         map.len(),
         c.sub.matrices.stiffness.compute_nnz()
     );
-    let masses: Vec<String> = [fem::DofKind::Ux, fem::DofKind::Uy, fem::DofKind::Uz]
+    let masses: Vec<String> = report::mass_along_axes(&c.sub)
         .iter()
-        .map(|k| format!("{:.6e}", mass_along(*k)))
+        .map(|m| format!("{m:.6e}"))
         .collect();
     say!("mass along x, y, z (kg): {}", masses.join(", "));
     say!(
@@ -797,22 +713,10 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
     let h = simulate::run_simulation(&file, flexible)?;
     simulate::write_csv(&out.join("histories.csv"), "time (s)", &h.times, &h.columns)?;
     folder.keep();
-    let select = |pred: &dyn Fn(&str) -> bool| -> Vec<(&str, &[f64])> {
-        h.columns
-            .iter()
-            .filter(|(n, _)| pred(n))
-            .map(|(n, v)| (n.as_str(), v.as_slice()))
-            .collect()
-    };
-    let connections: Vec<&str> = file.connections.iter().map(|c| c.name.as_str()).collect();
-    let forces = select(&|n: &str| connections.iter().any(|c| n == format!("{c} (N)")));
-    let rigid = select(&|n: &str| {
-        file.rigid_bodies
-            .iter()
-            .any(|b| n.starts_with(&format!("{}.", b.name)))
-    });
-    let moments = select(&|n: &str| n.starts_with("element") && n.contains("end My"));
-    let shears = select(&|n: &str| n.starts_with("element") && n.contains("end Qz"));
+    let forces = h.of_kind(HistoryKind::Connection);
+    let rigid = h.of_kind(HistoryKind::RigidBody);
+    let moments = h.of_kind(HistoryKind::EndMoment);
+    let shears = h.of_kind(HistoryKind::EndShear);
     let label = if full {
         "full FE model"
     } else {

@@ -8,7 +8,7 @@ use crate::fem::{Element, FemError, Substructure};
 use crate::io::{BodySource, ModelFile, SimulationSpec};
 use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
-use crate::reduce::{reduce, Method, ReduceError, ReducedBody, Reduction};
+use crate::reduce::{reduce, ReduceError, ReducedBody};
 
 /// Named histories sampled at common times (SI units).
 #[derive(Clone, Debug, Default)]
@@ -16,9 +16,42 @@ pub struct Histories {
     pub times: Vec<f64>,
     /// `(name, values)`: body coordinates, connection forces, section forces.
     pub columns: Vec<(String, Vec<f64>)>,
+    /// What each of `columns` records, one entry per column.
+    pub kinds: Vec<HistoryKind>,
+}
+
+/// What a history records.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum HistoryKind {
+    /// A coordinate of a rigid body (m or rad).
+    RigidBody,
+    /// A displacement of the flexible body at an interface DOF (m or rad).
+    Interface,
+    /// The force of a connection (N).
+    Connection,
+    /// Shear force `Qz` at an element's start (N).
+    StartShear,
+    /// Bending moment `My` at an element's start (N m).
+    StartMoment,
+    /// Shear force `Qz` at an element's end (N).
+    EndShear,
+    /// Bending moment `My` at an element's end (N m).
+    EndMoment,
+    /// Von Mises stress at a solid node (Pa).
+    VonMises,
 }
 
 impl Histories {
+    /// The `(name, values)` of every column of `kind`, in column order.
+    pub fn of_kind(&self, kind: HistoryKind) -> Vec<(&str, &[f64])> {
+        self.columns
+            .iter()
+            .zip(&self.kinds)
+            .filter(|(_, k)| **k == kind)
+            .map(|((n, v), _)| (n.as_str(), v.as_slice()))
+            .collect()
+    }
+
     /// The column called `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.columns
@@ -60,15 +93,7 @@ pub fn simulation_body(
 ) -> Result<ReducedBody, SimulationError> {
     let body = match &spec.body {
         BodySource::Reduce { method, modes } => {
-            let mut r = Reduction::new(*method, *modes, file.interface.clone());
-            r.support = file.support.clone();
-            r.springs = file.ground_springs();
-            if !matches!(
-                method,
-                Method::CraigBampton | Method::Guyan | Method::ElasticResidual
-            ) {
-                r.force_groups = file.force_groups.clone();
-            }
+            let r = crate::input::file_reduction(file, *method, *modes, file.interface.clone());
             reduce(sub, &r)?
         }
         BodySource::File(path) => {
@@ -110,8 +135,10 @@ pub fn run_simulation(
     let response = simulate(&sys, &spec.excitation, &spec.settings, None)?;
     let mut h = histories(file, &sys, &response, &spec.record)?;
     if !spec.record_nodes.is_empty() {
-        h.columns
-            .extend(stress_histories(file, body, &response, &spec.record_nodes)?);
+        let stresses = stress_histories(file, body, &response, &spec.record_nodes)?;
+        h.kinds
+            .extend(std::iter::repeat_n(HistoryKind::VonMises, stresses.len()));
+        h.columns.extend(stresses);
     }
     Ok(h)
 }
@@ -125,6 +152,7 @@ fn histories(
 ) -> Result<Histories, SimulationError> {
     let layout = sys.layout();
     let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut kinds = Vec::new();
     let body = sys.flexible[0];
     let q_at = layout.flexible[0];
     for (b, at) in sys.rigid.iter().zip(&layout.rigid) {
@@ -134,6 +162,7 @@ fn histories(
                 format!("{}.{} ({unit})", b.name, kind),
                 r.states.iter().map(|s| s.x[at + k]).collect(),
             ));
+            kinds.push(HistoryKind::RigidBody);
         }
     }
     // Displacements of the flexible body's interface DOFs (u_j = T_j q, eq. 8).
@@ -147,6 +176,7 @@ fn histories(
                     .map(|s| row.iter().map(|&(i, g)| g * s.x[q_at + i]).sum())
                     .collect(),
             ));
+            kinds.push(HistoryKind::Interface);
         }
     }
     for (k, c) in sys.connections.iter().enumerate() {
@@ -154,6 +184,7 @@ fn histories(
             format!("{} (N)", c.name),
             r.forces.iter().map(|f| f[k]).collect(),
         ));
+        kinds.push(HistoryKind::Connection);
     }
     // Section forces (eq. 25): u = T q, a = T q''.
     let elements: Vec<&Element> = record
@@ -179,11 +210,11 @@ fn histories(
         }
     }
     for (k, e) in elements.iter().enumerate() {
-        for (c, name) in [
-            "start Qz (N)",
-            "start My (N m)",
-            "end Qz (N)",
-            "end My (N m)",
+        for (c, (name, kind)) in [
+            ("start Qz (N)", HistoryKind::StartShear),
+            ("start My (N m)", HistoryKind::StartMoment),
+            ("end Qz (N)", HistoryKind::EndShear),
+            ("end My (N m)", HistoryKind::EndMoment),
         ]
         .iter()
         .enumerate()
@@ -192,11 +223,13 @@ fn histories(
                 format!("element {} {name}", e.id()),
                 std::mem::take(&mut section[4 * k + c]),
             ));
+            kinds.push(*kind);
         }
     }
     Ok(Histories {
         times: r.times.clone(),
         columns,
+        kinds,
     })
 }
 

@@ -16,7 +16,7 @@ use crate::fem::{DofKind, Substructure};
 use crate::io::{CaseSpec, ModelFile, StudySpec};
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
 use crate::recover::{harmonic_section_forces, nodal_values};
-use crate::reduce::{reduce, Method, ReduceError, Reduction};
+use crate::reduce::{reduce, Method, ReduceError};
 use serde::Serialize;
 
 /// A quantity along the beam: positions (m) and complex amplitudes.
@@ -238,16 +238,9 @@ pub fn reduce_case(
     sub: &Substructure,
     case: &CaseSpec,
 ) -> Result<crate::reduce::ReducedBody, StudyError> {
-    let mut spec = Reduction::new(case.method, case.modes, file.interface.clone());
-    spec.support = file.support.clone();
-    spec.springs = file.ground_springs();
+    let mut spec =
+        crate::input::file_reduction(file, case.method, case.modes, file.interface.clone());
     spec.max_frequency_hz = case.fmax;
-    if !matches!(
-        case.method,
-        Method::CraigBampton | Method::Guyan | Method::ElasticResidual
-    ) {
-        spec.force_groups = file.force_groups.clone();
-    }
     reduce(sub, &spec).map_err(|source| StudyError::Reduce {
         method: case.method,
         modes: case.modes,

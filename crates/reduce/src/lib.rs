@@ -17,9 +17,7 @@ mod products;
 
 pub use body::{ModeKind, ReducedBody};
 pub use error::ReduceError;
-pub use method::{
-    reduce, reduce_taking, reduce_taking_stiffness, ForceGroup, GroundSpring, Method, Reduction,
-};
+pub use method::{reduce, reduce_keeping, ForceGroup, GroundSpring, Keep, Method, Reduction};
 
 #[cfg(test)]
 mod tests;

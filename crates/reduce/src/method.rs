@@ -66,6 +66,19 @@ impl Method {
     pub fn parse(s: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == s)
     }
+
+    /// Whether the method's basis takes force groups in place of unit
+    /// loads at the interface DOFs: `free` (which ignores them) and
+    /// `free-residual` (residual inertia-relief modes per group, report
+    /// section 7). The constraint-mode methods (`craig-bampton`, `guyan`,
+    /// `elastic-residual`) reduce on the interface DOFs themselves and
+    /// refuse force groups ([`ReduceError::ForceGroupsNotApplicable`]).
+    pub fn takes_force_groups(self) -> bool {
+        match self {
+            Method::Free | Method::FreeResidual => true,
+            Method::CraigBampton | Method::Guyan | Method::ElasticResidual => false,
+        }
+    }
 }
 
 impl fmt::Display for Method {
@@ -134,39 +147,49 @@ impl Reduction {
     }
 }
 
-/// Reduces the substructure `sub` as `spec` says.
+/// Reduces the substructure `sub` as `spec` says. `sub` is left as it was;
+/// [`reduce_keeping`] with [`Keep::Both`] gives the same body.
 pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, ReduceError> {
     let checked = check(sub, spec)?;
     let matrices = Matrices::lent(&sub.matrices.stiffness, &sub.matrices.mass);
     reduce_from(sub, matrices, checked, spec)
 }
 
-/// [`reduce`] for a caller that needs `sub`'s stiffness and mass no more:
-/// they are taken out of `sub` (0 x 0 matrices take their place, also
-/// after an error) and dropped as soon as the solver of a large model
-/// holds its compact copy, so that the factorisations and the Lanczos run
-/// find their memory free (2.4 GiB of a 1e6-DOF solid). The body is
-/// [`reduce`]'s bit for bit: on the sparse paths both take the products
-/// after the modes from that copy. The dense paths of small models, and
-/// `elastic-residual`, keep the matrices to the end.
-pub fn reduce_taking(sub: &mut Substructure, spec: &Reduction) -> Result<ReducedBody, ReduceError> {
-    let checked = check(sub, spec);
-    let k = take(&mut sub.matrices.stiffness)?;
-    let m = take(&mut sub.matrices.mass)?;
-    reduce_from(sub, Matrices::given(k, m), checked?, spec)
+/// Which of `sub`'s stiffness and mass a caller of [`reduce_keeping`]
+/// needs after the reduction. What it does not need is taken out of `sub`
+/// (a 0 x 0 matrix takes its place, also after an error) and dropped as
+/// soon as the solver of a large model holds its compact copy, so that the
+/// factorisations and the Lanczos run find its memory free. The dense paths
+/// of small models, and `elastic-residual`, hold the matrices to the end.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Keep {
+    /// Stiffness and mass stay in `sub` (as [`reduce`] leaves them).
+    Both,
+    /// Only the mass stays (for the SID's mass invariants); the stiffness
+    /// is taken.
+    Mass,
+    /// Both are taken.
+    Neither,
 }
 
-/// [`reduce_taking`] for a caller that needs `sub`'s mass afterwards (the
-/// SID's mass invariants): only the stiffness is taken out of `sub` and
-/// dropped once the solver holds its compact copy (1.2 GiB of a 1e6-DOF
-/// solid). The body is [`reduce`]'s bit for bit.
-pub fn reduce_taking_stiffness(
+/// [`reduce`] on a substructure whose stiffness and mass the caller needs
+/// afterwards only as far as `keep` says. The body is [`reduce`]'s bit for
+/// bit for every choice: on the sparse paths the products after the modes
+/// come from the solver's copy whether the matrices were lent or taken.
+pub fn reduce_keeping(
     sub: &mut Substructure,
     spec: &Reduction,
+    keep: Keep,
 ) -> Result<ReducedBody, ReduceError> {
+    if keep == Keep::Both {
+        return reduce(sub, spec);
+    }
     let checked = check(sub, spec);
     let k = take(&mut sub.matrices.stiffness)?;
-    let matrices = Matrices::stiffness_given(k, &sub.matrices.mass);
+    let matrices = match keep {
+        Keep::Mass => Matrices::stiffness_given(k, &sub.matrices.mass),
+        _ => Matrices::given(k, take(&mut sub.matrices.mass)?),
+    };
     reduce_from(sub, matrices, checked?, spec)
 }
 
@@ -192,12 +215,7 @@ fn check(sub: &Substructure, spec: &Reduction) -> Result<Checked, ReduceError> {
         return Err(ReduceError::NoInterface(spec.method.name()));
     }
     let rigid = free_body_rigid_modes(sub)?;
-    if !spec.force_groups.is_empty()
-        && matches!(
-            spec.method,
-            Method::CraigBampton | Method::Guyan | Method::ElasticResidual
-        )
-    {
+    if !spec.force_groups.is_empty() && !spec.method.takes_force_groups() {
         return Err(ReduceError::ForceGroupsNotApplicable(spec.method.name()));
     }
     if spec.max_frequency_hz.is_some() && spec.modes > 0 {

@@ -251,7 +251,11 @@ fn a_mechanism_is_reported_with_its_zero_mode_count() {
                 spec.max_frequency_hz = Some(1e-3);
             }
             let lent = reduce(model, &spec);
-            let given = flexbody_reduce::reduce_taking(&mut model.clone(), &spec);
+            let given = flexbody_reduce::reduce_keeping(
+                &mut model.clone(),
+                &spec,
+                flexbody_reduce::Keep::Neither,
+            );
             for result in [lent, given] {
                 match result {
                     Err(ReduceError::FreeMechanism { zero, rigid }) => {
@@ -424,7 +428,9 @@ fn free_residual_of_a_supported_body_from_one_factorisation() {
     let interface: Vec<Dof> = boundary.iter().map(|&i| s.dof_map.dof(i)).collect();
     let spec = Reduction::new(Method::FreeResidual, 6, interface);
     let lent = reduce(&s, &spec).unwrap();
-    let body = flexbody_reduce::reduce_taking(&mut s.clone(), &spec).unwrap();
+    let body =
+        flexbody_reduce::reduce_keeping(&mut s.clone(), &spec, flexbody_reduce::Keep::Neither)
+            .unwrap();
     assert_eq!(body.r(), 12 + 6);
     assert!(body.basis == lent.basis && body.stiffness == lent.stiffness);
 }
@@ -501,14 +507,15 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
     }
 }
 
-/// `reduce_taking` (K and M handed over, dropped once the solver holds its
-/// compact copy) and `reduce_taking_stiffness` (K alone) give `reduce`'s
-/// body bit for bit, for every method, and leave 0 x 0 matrices behind; the reduced K and M from the compact copy
+/// `reduce_keeping` with `Keep::Neither` (K and M handed over, dropped once
+/// the solver holds its compact copy) and `Keep::Mass` (K alone) give
+/// `reduce`'s body bit for bit, for every method, and leave 0 x 0 matrices
+/// behind; the reduced K and M from the compact copy
 /// (for Craig-Bampton the interior's copy bordered by the interface) are
 /// `T^T K T` and `T^T M T` of the full matrices.
 #[test]
 fn handing_k_and_m_over_gives_the_same_body() {
-    use flexbody_reduce::{reduce_taking, reduce_taking_stiffness, GroundSpring};
+    use flexbody_reduce::{reduce_keeping, GroundSpring, Keep};
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     assert!(s.len() - 12 >= SPARSE_FROM);
     // The 4 corner nodes of the end x = 0 (nodes 1, 11, 34, 44).
@@ -533,7 +540,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
         spec.springs = springs;
         let lent = reduce(&s, &spec).unwrap();
         let mut given = s.clone();
-        let body = reduce_taking(&mut given, &spec).unwrap();
+        let body = reduce_keeping(&mut given, &spec, Keep::Neither).unwrap();
         assert_eq!(given.matrices.stiffness.nrows(), 0, "{method}");
         assert_eq!(given.matrices.mass.nrows(), 0, "{method}");
         assert!(body.basis == lent.basis, "{method}");
@@ -541,7 +548,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
         assert!(body.mass == lent.mass, "{method}");
         // K alone handed over (for the SID's invariants): M stays as it was.
         let mut kept = s.clone();
-        let with_mass = reduce_taking_stiffness(&mut kept, &spec).unwrap();
+        let with_mass = reduce_keeping(&mut kept, &spec, Keep::Mass).unwrap();
         assert_eq!(kept.matrices.stiffness.nrows(), 0, "{method}");
         let (m, m0) = (kept.matrices.mass.as_ref(), s.matrices.mass.as_ref());
         assert!(m.col_ptr() == m0.col_ptr() && m.row_idx() == m0.row_idx());
@@ -567,7 +574,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
     for method in [Method::Guyan, Method::ElasticResidual] {
         let mut spec = Reduction::new(method, 0, interface.clone());
         spec.springs = springs_at(&[1, 11, 34, 44], 1e7);
-        let body = reduce_taking(&mut s.clone(), &spec).unwrap();
+        let body = reduce_keeping(&mut s.clone(), &spec, Keep::Neither).unwrap();
         assert!(
             (&body.basis - &want).norm_max() < 1e-12 * want.norm_max(),
             "{method}"
@@ -579,7 +586,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
     // residual inertia-relief attachment modes alone.
     let mut spec = Reduction::new(Method::FreeResidual, 0, interface);
     spec.max_frequency_hz = Some(1.0);
-    let body = reduce_taking(&mut s.clone(), &spec).unwrap();
+    let body = reduce_keeping(&mut s.clone(), &spec, Keep::Neither).unwrap();
     assert_eq!(body.r(), 6 + 12);
 }
 
