@@ -2,7 +2,7 @@
 //! with exit code 2 (or its typed error, for the library), names what is
 //! wrong, and leaves no output behind.
 
-use super::cli::{fails_with, flexbody, stderr};
+use super::support::{fails_with, flexbody, stderr};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::io::read_model_file;
 use flexbody::reduce::{reduce, ForceGroup, Method, ReduceError, Reduction};

@@ -3,12 +3,19 @@
 
 mod calculix;
 mod cli;
+mod cli_errors;
+mod cli_modes;
 mod decks;
 mod errors;
 mod exchange;
 mod export;
+mod exudyn;
 mod interfaces;
+mod memory;
+mod section_forces;
+mod sid;
 mod study;
+mod support;
 mod vehicle;
 
 use flexbody::fem::Substructure;

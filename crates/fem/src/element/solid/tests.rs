@@ -1,23 +1,27 @@
-//! Tests of the solid elements: shape functions and rules, nodal stresses,
-//! rigid-body motions, mass and volume, the spectrum of K, geometry checks.
-//! Patch tests in `tests/patch.rs`, comparison with CalculiX in
-//! `tests/calculix.rs`, a cantilever against beam theory in
-//! `tests/cantilever.rs`.
-
-mod calculix;
-mod cantilever;
-mod patch;
+//! Tests of the solid elements: shape functions and rules here, and the
+//! builders the other files share. Nodal stresses in `tests/stresses.rs`;
+//! rigid-body motions, symmetry, the spectrum of K, mass and volume in
+//! `tests/matrices.rs`; geometry checks in `tests/checks.rs`; patch tests in
+//! `tests/patch.rs`, comparison with CalculiX in `tests/calculix.rs`, a
+//! cantilever against beam theory in `tests/cantilever.rs`.
 
 use super::quadrature::Rule;
 use super::shape::{self, MAX_NODES};
 use super::{Solid, SolidKind};
-use crate::element::mat_vec;
 use crate::section::Material;
-use crate::FemError;
-use faer::{Mat, Side};
+use faer::Mat;
+
+mod calculix;
+mod cantilever;
+mod checks;
+mod matrices;
+mod patch;
+mod stresses;
 
 pub(super) const E: f64 = 2.1e11;
+
 pub(super) const NU: f64 = 0.3;
+
 pub(super) const RHO: f64 = 7850.0;
 
 pub(super) fn steel() -> Material {
@@ -55,6 +59,7 @@ impl Random {
 
 /// `A x + b`: a general (sheared, stretched, rotated) affine map.
 const AFFINE: [[f64; 3]; 3] = [[0.9, 0.2, -0.1], [0.15, 0.7, 0.12], [-0.05, 0.1, 0.6]];
+
 const SHIFT: [f64; 3] = [0.3, -0.2, 1.1];
 
 fn affine(x: [f64; 3]) -> [f64; 3] {
@@ -138,6 +143,7 @@ const GRADIENT: [[f64; 3]; 3] = [
     [0.3e-3, -0.9e-3, 0.25e-3],
     [-0.6e-3, 0.5e-3, 0.8e-3],
 ];
+
 const OFFSET: [f64; 3] = [1e-3, -2e-3, 0.5e-3];
 
 // ---------------------------------------------------------------------------
@@ -306,6 +312,7 @@ fn mass_rule_is_the_stiffness_rule_as_in_calculix() {
 
 /// Hexahedron corners in Abaqus order as bit offsets `x + 2 y + 4 z`.
 const HEX_CORNERS: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
+
 /// Mid-edge nodes of the 20-node hexahedron: the corners (0-based) they join.
 const HEX_EDGES: [(usize, usize); 12] = [
     (0, 1),
@@ -321,385 +328,3 @@ const HEX_EDGES: [(usize, usize); 12] = [
     (2, 6),
     (3, 7),
 ];
-
-// ---------------------------------------------------------------------------
-// Nodal stresses
-
-#[test]
-fn nodal_stresses_of_a_linear_field_are_exact_on_distorted_elements() {
-    let sigma = exact_stress(GRADIENT);
-    let s_max = sigma.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 17, 0.15);
-        let u = linear_field(OFFSET, GRADIENT, &x);
-        let stresses = solid(kind).nodal_stresses(&x, &u).unwrap();
-        assert_eq!(stresses.len(), kind.node_count());
-        for (a, s) in stresses.iter().enumerate() {
-            for c in 0..6 {
-                assert!(
-                    (s[c] - sigma[c]).abs() <= 1e-10 * s_max,
-                    "{kind:?} node {a} component {c}: {} vs {}",
-                    s[c],
-                    sigma[c]
-                );
-            }
-        }
-    }
-}
-
-#[test]
-fn nodal_stresses_extrapolate_a_linear_stress_field_in_a_c3d8() {
-    // u = (c x y, 0, 0) on the reference cube: sxx = (lambda + 2 mu) c y and
-    // sxy = mu c x, linear, which the trilinear extrapolation from the Gauss
-    // points reproduces at the nodes.
-    let c = 1e-3;
-    let x: Vec<[f64; 3]> = shape::node_coordinates(SolidKind::C3D8).to_vec();
-    let u: Vec<f64> = x.iter().flat_map(|p| [c * p[0] * p[1], 0.0, 0.0]).collect();
-    let s = solid(SolidKind::C3D8).nodal_stresses(&x, &u).unwrap();
-    let lambda = E * NU / ((1.0 + NU) * (1.0 - 2.0 * NU));
-    let mu = E / (2.0 * (1.0 + NU));
-    for (p, sp) in x.iter().zip(&s) {
-        let sxx = (lambda + 2.0 * mu) * c * p[1];
-        let sxy = mu * c * p[0];
-        assert!(
-            (sp[0] - sxx).abs() < 1e-9 * sxx.abs(),
-            "{p:?}: {} vs {sxx}",
-            sp[0]
-        );
-        assert!(
-            (sp[3] - sxy).abs() < 1e-9 * sxy.abs(),
-            "{p:?}: {} vs {sxy}",
-            sp[3]
-        );
-    }
-}
-
-#[test]
-fn nodal_stresses_reject_a_wrong_displacement_length() {
-    let x = distorted(SolidKind::C3D8, 1, 0.1);
-    let e = solid(SolidKind::C3D8)
-        .nodal_stresses(&x, &[0.0; 23])
-        .unwrap_err();
-    assert!(e.to_string().contains("24 displacement values"), "{e}");
-}
-
-// ---------------------------------------------------------------------------
-// Rigid-body motions, symmetry, spectrum
-
-/// The six rigid-body motions (translations, small rotations about the
-/// origin) at the given points.
-pub(super) fn rigid_modes(coords: &[[f64; 3]]) -> Vec<Vec<f64>> {
-    let mut modes = Vec::new();
-    for d in 0..3 {
-        let mut t = [0.0; 3];
-        t[d] = 1.0;
-        modes.push(coords.iter().flat_map(|_| t).collect());
-    }
-    for d in 0..3 {
-        let mut w = [0.0; 3];
-        w[d] = 1.0;
-        modes.push(
-            coords
-                .iter()
-                .flat_map(|x| {
-                    [
-                        w[1] * x[2] - w[2] * x[1],
-                        w[2] * x[0] - w[0] * x[2],
-                        w[0] * x[1] - w[1] * x[0],
-                    ]
-                })
-                .collect(),
-        );
-    }
-    modes
-}
-
-#[test]
-fn rigid_body_motions_have_no_strain_energy() {
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 23, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let k_max = max_abs(&em.stiffness);
-        for (r, u) in rigid_modes(&x).iter().enumerate() {
-            let u_max = u.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            let f = mat_vec(&em.stiffness, u);
-            let f_max = f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            assert!(
-                f_max <= 1e-12 * k_max * u_max,
-                "{kind:?} rigid mode {r}: |K u| = {f_max:e}"
-            );
-            let energy = dot(u, &f);
-            assert!(
-                energy.abs() <= 1e-12 * k_max * dot(u, u),
-                "{kind:?} rigid mode {r}: u^T K u = {energy:e}"
-            );
-        }
-    }
-}
-
-#[test]
-fn matrices_are_exactly_symmetric() {
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 29, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let nd = 3 * kind.node_count();
-        assert_eq!(em.dofs.len(), nd);
-        assert_eq!((em.stiffness.nrows(), em.stiffness.ncols()), (nd, nd));
-        assert_eq!((em.mass.nrows(), em.mass.ncols()), (nd, nd));
-        for i in 0..nd {
-            for j in 0..nd {
-                assert_eq!(em.stiffness[(i, j)], em.stiffness[(j, i)], "{kind:?} K");
-                assert_eq!(em.mass[(i, j)], em.mass[(j, i)], "{kind:?} M");
-            }
-        }
-    }
-}
-
-/// Eigenvalues of a dense symmetric matrix, ascending.
-fn eigenvalues(a: &Mat<f64>) -> Vec<f64> {
-    a.self_adjoint_eigenvalues(Side::Lower).unwrap()
-}
-
-#[test]
-fn stiffness_is_positive_semidefinite_with_six_rigid_modes() {
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 31, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let lam = eigenvalues(&em.stiffness);
-        let top = *lam.last().unwrap();
-        let tol = 1e-10 * top;
-        assert!(lam[0] > -tol, "{kind:?}: negative eigenvalue {:e}", lam[0]);
-        let zeros = lam.iter().filter(|l| l.abs() <= tol).count();
-        // C3D20R: 8 points x 6 strains bound the rank by 48 of 60, so a
-        // single element has 6 hourglass modes besides the 6 rigid ones.
-        // C3D6: both points lie on the line through the triangles'
-        // centroids, where twisting the end triangles against each other
-        // about that line strains nothing: one spurious mode (CalculiX's
-        // C3D6 has it too; its K is the same, see calculix.rs).
-        let expected = match kind {
-            SolidKind::C3D20R => 12,
-            SolidKind::C3D6 => 7,
-            _ => 6,
-        };
-        assert_eq!(zeros, expected, "{kind:?}: eigenvalues {lam:?}");
-    }
-}
-
-#[test]
-fn mass_is_positive_semidefinite() {
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 37, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let lam = eigenvalues(&em.mass);
-        let top = *lam.last().unwrap();
-        assert!(
-            lam[0] > -1e-12 * top,
-            "{kind:?}: negative eigenvalue {:e}",
-            lam[0]
-        );
-    }
-}
-
-// ---------------------------------------------------------------------------
-// Mass and volume
-
-#[test]
-fn translation_carries_the_element_mass() {
-    for kind in SolidKind::ALL {
-        // C3D20R integrates the mass with 2x2x2 points, exact for straight
-        // edges (trilinear geometry) but not for curved ones.
-        let x = if kind == SolidKind::C3D20R {
-            let mut x = distorted(SolidKind::C3D8, 41, 0.15);
-            for (a, b) in HEX_EDGES {
-                x.push([0, 1, 2].map(|c| 0.5 * (x[a][c] + x[b][c])));
-            }
-            x
-        } else {
-            distorted(kind, 41, 0.15)
-        };
-        let s = solid(kind);
-        let em = s.matrices(&x).unwrap();
-        let mass = RHO * s.volume(&x).unwrap();
-        for t in &rigid_modes(&x)[..3] {
-            let mt = dot(t, &mat_vec(&em.mass, t));
-            assert!(
-                (mt - mass).abs() <= 1e-12 * mass,
-                "{kind:?}: {mt} vs {mass}"
-            );
-        }
-    }
-}
-
-#[test]
-fn volume_is_exact_for_boxes_tets_and_wedges() {
-    let (a, b, c) = (0.3, 0.2, 0.7);
-    let scale = |r: &[f64; 3]| [0.3 + a * r[0], -1.0 + b * r[1], 2.0 + c * r[2]];
-    for kind in [SolidKind::C3D8, SolidKind::C3D20, SolidKind::C3D20R] {
-        let x: Vec<[f64; 3]> = shape::node_coordinates(kind)
-            .iter()
-            .map(|r| scale(&r.map(|v| 0.5 * (v + 1.0))))
-            .collect();
-        let v = solid(kind).volume(&x).unwrap();
-        assert!((v - a * b * c).abs() < 1e-15, "{kind:?}: {v}");
-    }
-    for kind in [SolidKind::C3D4, SolidKind::C3D10] {
-        let x: Vec<[f64; 3]> = shape::node_coordinates(kind).iter().map(scale).collect();
-        let v = solid(kind).volume(&x).unwrap();
-        assert!((v - a * b * c / 6.0).abs() < 1e-15, "{kind:?}: {v}");
-    }
-    let x: Vec<[f64; 3]> = shape::node_coordinates(SolidKind::C3D6)
-        .iter()
-        .map(|r| scale(&[r[0], r[1], 0.5 * (r[2] + 1.0)]))
-        .collect();
-    let v = solid(SolidKind::C3D6).volume(&x).unwrap();
-    assert!((v - a * b * c / 2.0).abs() < 1e-15, "C3D6: {v}");
-}
-
-#[test]
-fn volume_of_a_distorted_element_agrees_across_kinds() {
-    // Straight-edged 20-node element = the 8-node one; the volume of a
-    // sheared parallelepiped is |det A|.
-    let x8 = distorted(SolidKind::C3D8, 43, 0.2);
-    let mut x20 = x8.clone();
-    for (a, b) in HEX_EDGES {
-        x20.push([0, 1, 2].map(|c| 0.5 * (x8[a][c] + x8[b][c])));
-    }
-    let v8 = solid(SolidKind::C3D8).volume(&x8).unwrap();
-    let v20 = solid(SolidKind::C3D20).volume(&x20).unwrap();
-    let v20r = solid(SolidKind::C3D20R).volume(&x20).unwrap();
-    assert!(
-        (v8 - v20).abs() < 1e-14 * v8 && (v8 - v20r).abs() < 1e-14 * v8,
-        "{v8} {v20} {v20r}"
-    );
-    let det_a = AFFINE[0][0] * (AFFINE[1][1] * AFFINE[2][2] - AFFINE[1][2] * AFFINE[2][1])
-        - AFFINE[0][1] * (AFFINE[1][0] * AFFINE[2][2] - AFFINE[1][2] * AFFINE[2][0])
-        + AFFINE[0][2] * (AFFINE[1][0] * AFFINE[2][1] - AFFINE[1][1] * AFFINE[2][0]);
-    let p = distorted(SolidKind::C3D20, 1, 0.0);
-    let v = solid(SolidKind::C3D20).volume(&p).unwrap();
-    assert!((v - 8.0 * det_a).abs() < 1e-14, "{v} vs {}", 8.0 * det_a);
-}
-
-#[test]
-fn unit_cube_c3d8_matches_the_closed_form_mass_matrix() {
-    // Consistent mass of a trilinear brick: rho V / 216 * (2^3, 2^2, 2, 1)
-    // for nodes sharing 3, 2, 1, 0 coordinates.
-    let x: Vec<[f64; 3]> = shape::node_coordinates(SolidKind::C3D8)
-        .iter()
-        .map(|r| r.map(|v| 0.5 * (v + 1.0)))
-        .collect();
-    let em = solid(SolidKind::C3D8).matrices(&x).unwrap();
-    for a in 0..8 {
-        for b in 0..8 {
-            let shared = (0..3).filter(|&c| x[a][c] == x[b][c]).count() as i32;
-            let exact = RHO / 216.0 * 2f64.powi(shared);
-            assert!((em.mass[(3 * a, 3 * b)] - exact).abs() < 1e-12 * exact);
-            assert_eq!(em.mass[(3 * a, 3 * b + 1)], 0.0);
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------
-// Geometry and input checks
-
-fn reason(e: FemError) -> String {
-    match e {
-        FemError::InvalidElement { element, reason } => {
-            assert_eq!(element, 7);
-            reason
-        }
-        other => panic!("unexpected error {other}"),
-    }
-}
-
-/// A node order that turns the element inside out: swaps the two ends of
-/// the element (hexahedra, wedge) or two corners (tetrahedra), with the
-/// mid-edge nodes that go with them.
-fn reversed(kind: SolidKind) -> Vec<usize> {
-    match kind {
-        SolidKind::C3D8 => vec![4, 5, 6, 7, 0, 1, 2, 3],
-        SolidKind::C3D20 | SolidKind::C3D20R => vec![
-            4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
-        ],
-        SolidKind::C3D4 => vec![0, 2, 1, 3],
-        // Corners 2 <-> 3; edges 1-2 <-> 3-1, 2-4 <-> 3-4.
-        SolidKind::C3D10 => vec![0, 2, 1, 3, 6, 5, 4, 7, 9, 8],
-        SolidKind::C3D6 => vec![3, 4, 5, 0, 1, 2],
-    }
-}
-
-#[test]
-fn inverted_elements_are_rejected() {
-    for kind in SolidKind::ALL {
-        let x = distorted(kind, 47, 0.1);
-        solid(kind).validate(&x).unwrap();
-        let swapped: Vec<[f64; 3]> = reversed(kind).iter().map(|&i| x[i]).collect();
-        let r = reason(solid(kind).validate(&swapped).unwrap_err());
-        assert!(
-            r.starts_with("inverted: negative Jacobian at integration point 1"),
-            "{kind:?}: {r}"
-        );
-        let mirrored: Vec<[f64; 3]> = x.iter().map(|p| [-p[0], p[1], p[2]]).collect();
-        let r = reason(solid(kind).matrices(&mirrored).unwrap_err());
-        assert!(r.starts_with("inverted"), "{kind:?}: {r}");
-    }
-    // Two corner nodes of a hexahedron swapped: a twisted element, inverted
-    // at some integration points only.
-    let mut x = distorted(SolidKind::C3D8, 47, 0.0);
-    x.swap(0, 1);
-    let r = reason(solid(SolidKind::C3D8).validate(&x).unwrap_err());
-    assert!(r.starts_with("inverted"), "{r}");
-}
-
-#[test]
-fn flat_elements_are_rejected() {
-    for kind in SolidKind::ALL {
-        let x: Vec<[f64; 3]> = distorted(kind, 53, 0.1)
-            .iter()
-            .map(|p| [p[0], p[1], 0.25])
-            .collect();
-        let r = reason(solid(kind).validate(&x).unwrap_err());
-        assert!(r.starts_with("zero volume"), "{kind:?}: {r}");
-        assert!(solid(kind).volume(&x).is_err());
-        assert!(solid(kind).matrices(&x).is_err());
-    }
-}
-
-#[test]
-fn wrong_node_count_is_rejected() {
-    let x = distorted(SolidKind::C3D8, 1, 0.1);
-    let r = reason(solid(SolidKind::C3D20).validate(&x).unwrap_err());
-    assert_eq!(r, "C3D20 needs 20 nodes, got 8");
-    let r = reason(solid(SolidKind::C3D8).validate(&x[..7]).unwrap_err());
-    assert_eq!(r, "C3D8 needs 8 nodes, got 7");
-}
-
-#[test]
-fn bad_material_and_coordinates_are_rejected() {
-    let x = distorted(SolidKind::C3D4, 1, 0.1);
-    let mut s = solid(SolidKind::C3D4);
-    s.material.poisson_ratio = 0.5;
-    assert!(reason(s.validate(&x).unwrap_err()).contains("Poisson"));
-    let mut s = solid(SolidKind::C3D4);
-    s.material.youngs_modulus = 0.0;
-    assert!(reason(s.validate(&x).unwrap_err()).contains("Young"));
-    let mut bad = x.clone();
-    bad[2][1] = f64::NAN;
-    assert!(reason(solid(SolidKind::C3D4).validate(&bad).unwrap_err()).contains("finite"));
-}
-
-#[test]
-fn elements_far_from_the_origin_are_accepted() {
-    // A 1 mm element 10 km away: the Jacobian is built from coordinates
-    // relative to the first node.
-    let x: Vec<[f64; 3]> = distorted(SolidKind::C3D10, 59, 0.1)
-        .iter()
-        .map(|p| [1e4 + 1e-3 * p[0], -1e4 + 1e-3 * p[1], 5e3 + 1e-3 * p[2]])
-        .collect();
-    let v = solid(SolidKind::C3D10).volume(&x).unwrap();
-    let v0 = solid(SolidKind::C3D10)
-        .volume(&distorted(SolidKind::C3D10, 59, 0.1))
-        .unwrap();
-    // Rounding the coordinates to f64 moves the nodes by 2e-12 m, 2e-9 of
-    // the element size.
-    assert!((v - 1e-9 * v0).abs() < 1e-7 * v, "{v} vs {}", 1e-9 * v0);
-}

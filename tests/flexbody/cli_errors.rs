@@ -1,0 +1,258 @@
+//! The `flexbody` command on bad input: exit code 2, a message naming file
+//! and line, never a panic.
+
+use super::support::{fails_with, flexbody, stderr, variant};
+
+#[test]
+fn a_connection_to_a_missing_node_names_it_and_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(dir.path(), "m.toml", "node = 21", "node = 99");
+    fails_with(&["study", &m], &["m.toml:53:", "node 99", "does not exist"]);
+}
+
+#[test]
+fn a_negative_density_names_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m.toml",
+        "density = 6800.0",
+        "density = -6800.0",
+    );
+    fails_with(&["study", &m], &["m.toml:9:", "density"]);
+}
+
+#[test]
+fn unknown_methods_are_refused() {
+    let model = super::side_beam_path();
+    fails_with(
+        &[
+            "reduce",
+            model.to_str().unwrap(),
+            "--method",
+            "hurty",
+            "--out",
+            "x.json",
+        ],
+        &["unknown method 'hurty'", "free-residual"],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m2.toml",
+        "{ method = \"free\", modes = 7 }",
+        "{ method = \"hurty\", modes = 7 }",
+    );
+    fails_with(&["study", &m], &["m2.toml:", "unknown variant `hurty`"]);
+}
+
+#[test]
+fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(
+        dir.path(),
+        "m.toml",
+        "[track]",
+        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
+    );
+    let out = dir.path().join("b.json");
+    fails_with(
+        &[
+            "reduce",
+            &m,
+            "--method",
+            "craig-bampton",
+            "--modes",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["mechanism", "K_NN is singular", "node 1 uz", "node 21 uz"],
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn missing_files_and_unwritable_outputs_are_named() {
+    fails_with(
+        &["study", "no/such/model.toml"],
+        &["no/such/model.toml", "cannot read"],
+    );
+    let model = super::side_beam_path();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("no_dir/body.json");
+    fails_with(
+        &[
+            "reduce",
+            model.to_str().unwrap(),
+            "--method",
+            "guyan",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["no_dir/body.json", "cannot write"],
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
+    // Two steel C3D8 cubes that share no node: 12 zero frequencies where
+    // a free body has 6 rigid-body motions.
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("cubes.inp");
+    let mut text = String::from("*NODE\n");
+    for (first, x0) in [(1, 0.0), (11, 2.0)] {
+        for (k, [x, y, z]) in [
+            [0, 0, 0],
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [1, 0, 1],
+            [1, 1, 1],
+            [0, 1, 1],
+        ]
+        .iter()
+        .enumerate()
+        {
+            text += &format!("{}, {}, {y}, {z}\n", first + k, x0 + *x as f64);
+        }
+    }
+    text += "*ELEMENT, TYPE=C3D8, ELSET=E\n1, 1, 2, 3, 4, 5, 6, 7, 8\n\
+             2, 11, 12, 13, 14, 15, 16, 17, 18\n\
+             *MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n\
+             *SOLID SECTION, ELSET=E, MATERIAL=STEEL\n";
+    std::fs::write(&deck, &text).unwrap();
+    let deck = deck.to_str().unwrap();
+    let o = flexbody(&["modes", deck, "--count", "14"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("12 modes have zero frequency, more than the 6 rigid-body motions"),
+        "{}",
+        stderr(&o)
+    );
+    let o = flexbody(&["modes", deck, "--count", "8"]);
+    assert!(stderr(&o).contains("all 8 modes computed have zero frequency"));
+    let out = dir.path().join("b.json");
+    for method in ["free", "free-residual"] {
+        fails_with(
+            &[
+                "reduce",
+                deck,
+                "--method",
+                method,
+                "--modes",
+                "6",
+                "--interface",
+                "1",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &["12 zero-frequency modes but only 6 rigid-body modes"],
+        );
+    }
+    assert!(!out.exists());
+    // Held at four nodes of the first cube, the second is free: its 6
+    // rigid-body motions are zero frequencies of a held model. Held at
+    // four nodes of each, the model has none, and `modes` says nothing.
+    let held = dir.path().join("held.inp");
+    let hold = |nodes: &[u32]| -> String { nodes.iter().map(|n| format!("{n}, 1, 3\n")).collect() };
+    std::fs::write(&held, format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5]))).unwrap();
+    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("6 modes have zero frequency although the model is held"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(
+        &held,
+        format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5, 11, 12, 14, 15])),
+    )
+    .unwrap();
+    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("zero frequency"), "{}", stderr(&o));
+}
+
+#[test]
+fn reduce_refuses_an_output_it_cannot_write_before_it_reduces() {
+    // Each of these once failed only after the reduction, the last one
+    // with the body already written: at 1e6 DOFs, ten minutes later.
+    let dir = tempfile::tempdir().unwrap();
+    let fixtures = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/calculix/hex_beam");
+    let deck = fixtures.join("hex_beam.inp");
+    let sti = fixtures.join("hex_beam.sti");
+    let (deck, sti) = (deck.to_str().unwrap(), sti.to_str().unwrap());
+    let body = dir.path().join("b.json");
+    let a_file = dir.path().join("a_file");
+    std::fs::write(&a_file, "x").unwrap();
+    let folder = dir.path().to_str().unwrap();
+    let reduce = |model: &str, out: &str, extra: &[&str], needles: &[&str]| {
+        let mut args = vec![
+            "reduce",
+            model,
+            "--method",
+            "craig-bampton",
+            "--modes",
+            "2",
+            "--interface",
+            "1,13",
+            "--out",
+            out,
+        ];
+        args.extend_from_slice(extra);
+        fails_with(&args, needles);
+    };
+    let missing = dir.path().join("none/b.json");
+    reduce(
+        deck,
+        missing.to_str().unwrap(),
+        &[],
+        &["none/b.json", "cannot write"],
+    );
+    reduce(deck, folder, &[], &["cannot write: it is a folder"]);
+    let vtu = dir.path().join("none/b.vtu");
+    let b = body.to_str().unwrap();
+    reduce(deck, b, &["--vtu", vtu.to_str().unwrap()], &["none/b.vtu"]);
+    let at = a_file.to_str().unwrap();
+    reduce(
+        deck,
+        at,
+        &["--format", "mtx"],
+        &["a_file", "a file is in the folder's place"],
+    );
+    let other = dir.path().join("m.vtu");
+    reduce(
+        sti,
+        b,
+        &["--vtu", other.to_str().unwrap()],
+        &["--vtu needs a mesh"],
+    );
+    assert!(!body.exists() && !other.exists());
+    // Nothing of the checks is left behind.
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+    // The commands that write a folder make it first.
+    let vehicle =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/vehicle.toml");
+    let under_a_file = a_file.join("plots");
+    let (vehicle, under) = (vehicle.to_str().unwrap(), under_a_file.to_str().unwrap());
+    for command in ["study", "simulate", "frf"] {
+        fails_with(
+            &[command, vehicle, "--out", under],
+            &["a_file/plots", "cannot create directory"],
+        );
+    }
+    // A command that fails after making its folder takes it away again:
+    // the vehicle has no [study] table.
+    let new = dir.path().join("new");
+    let deeper = new.join("deeper");
+    fails_with(
+        &["study", vehicle, "--out", deeper.to_str().unwrap()],
+        &["no [study] table"],
+    );
+    assert!(!new.exists());
+}

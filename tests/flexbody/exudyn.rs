@@ -1,0 +1,215 @@
+//! Exudyn reading the SID file (`scripts/exudyn_check.py`) agrees with
+//! flexbody.
+
+use super::support::{hex_beam, reduce_with};
+use flexbody::fem::{Dof, DofKind};
+use flexbody::reduce::{Method, ReducedBody};
+use std::path::PathBuf;
+
+/// Whether the peer programs (CalculiX, Exudyn) must be present: set
+/// `FLEXBODY_REQUIRE_PEERS=1` (as `.ci/run` does) to make a missing peer a
+/// failure instead of a skipped check.
+fn peers_required() -> bool {
+    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
+}
+
+/// Exudyn, a real MBS client, against flexbody: `scripts/exudyn_check.py`
+/// reads the SID file that `flexbody reduce --format sid` writes for the
+/// free C3D8 bar `hex_beam` (free-residual, tip node 13, 4 eigenmodes; 7
+/// elastic coordinates, mean axes), builds an `ObjectFFRFreducedOrder` from
+/// its invariants alone, and compares it with the same body built by
+/// Exudyn's `FEMinterface` from the full M, K and mode shapes, and with
+/// flexbody's own frequencies and trapezoidal-rule time response of the tip
+/// to a harmonic force (frame held fixed: `Me q'' + Ke q = Phi_tip^T f(t)`),
+/// and the two Exudyn bodies in a short free tumble. The tolerances and
+/// the figures measured are in the script.
+///
+/// Skipped, with a message, when `python3` cannot import exudyn, numpy and
+/// scipy, unless [`peers_required`]. With `FLEXBODY_EXUDYN_DIR` set, the
+/// files are kept there (see [`write_exudyn_data`]).
+#[test]
+fn exudyn_agrees_with_flexbody() {
+    use std::process::Command;
+    let probe = Command::new("python3")
+        .args(["-c", "import exudyn, numpy, scipy"])
+        .output();
+    if !probe.as_ref().is_ok_and(|o| o.status.success()) {
+        let why = match &probe {
+            Ok(o) => String::from_utf8_lossy(&o.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .to_string(),
+            Err(e) => format!("python3: {e}"),
+        };
+        assert!(
+            !peers_required(),
+            "FLEXBODY_REQUIRE_PEERS=1 but Exudyn is missing ({why}); run scripts/install_peers.sh"
+        );
+        eprintln!("exudyn_agrees_with_flexbody: SKIPPED, Exudyn is not available ({why})");
+        return;
+    }
+    let temporary = tempfile::tempdir().unwrap();
+    let dir = std::env::var_os("FLEXBODY_EXUDYN_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| temporary.path().to_path_buf());
+    write_exudyn_data(&dir);
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/exudyn_check.py");
+    let out = Command::new("python3")
+        .arg(&script)
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("exudyn_agrees_with_flexbody:\n{log}");
+    assert!(
+        out.status.success(),
+        "scripts/exudyn_check.py failed:\n{log}"
+    );
+}
+
+/// Writes what `scripts/exudyn_check.py` reads into `dir`: `body.sid`
+/// (written by the `flexbody reduce --format sid` command), `nodes.txt`
+/// (x y z per node, DOF order), `mass.mtx` and `stiffness.mtx` (full M and
+/// K), `modes.mtx` (the SID's elastic mode shapes Phi, m x nq), and
+/// `flexbody.json` (frequencies, load, settings, tip node, and the tip
+/// displacement history of flexbody's trapezoidal-rule time response).
+fn write_exudyn_data(dir: &std::path::Path) {
+    use flexbody::export::ffrf::elastic_basis;
+    use flexbody::mbs::time::{simulate, Excitation, History, TimeForce, TimeSettings};
+    use flexbody::mbs::{Endpoint, FlexibleBody, System};
+    use flexbody::reduce::ModeKind;
+    std::fs::create_dir_all(dir).unwrap();
+    let (sub, _) = hex_beam();
+    let tip = 13;
+    let deck = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
+        .arg("reduce")
+        .arg(&deck)
+        .args(["--interface", &tip.to_string()])
+        .args([
+            "--method",
+            "free-residual",
+            "--modes",
+            "4",
+            "--format",
+            "sid",
+        ])
+        .arg("--out")
+        .arg(dir.join("body.sid"))
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "flexbody reduce: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let body = reduce_with(&sub, Method::FreeResidual, 4, &[tip]);
+    let basis = elastic_basis(&sub, &body).unwrap();
+    let nq = basis.shapes.ncols();
+    let elastic = ReducedBody {
+        method: body.method,
+        dof_map: body.dof_map.clone(),
+        basis: basis.shapes.clone(),
+        mass: basis.mass.clone(),
+        stiffness: basis.stiffness.clone(),
+        damping: None,
+        modes: basis
+            .frequencies_hz
+            .iter()
+            .map(|f| ModeKind::Orthonormal { frequency_hz: *f })
+            .collect(),
+        interface: body.interface.clone(),
+    };
+    let f1 = basis.frequencies_hz[0];
+    let (amplitude, frequency_hz) = (1000.0, 0.37 * f1);
+    let settings = TimeSettings {
+        step: 1.0 / (f1 * 200.0),
+        duration: 6.0 / f1,
+        alpha: 0.0,
+        ..TimeSettings::default()
+    };
+    let system = System {
+        flexible: vec![FlexibleBody::Reduced(&elastic)],
+        ..System::default()
+    };
+    let excitation = Excitation {
+        forces: vec![TimeForce {
+            name: "tip".into(),
+            at: Endpoint::Flexible { body: 0, node: tip },
+            direction: [0.0, 0.0, 1.0],
+            history: History::Harmonic {
+                amplitude,
+                frequency_hz,
+                phase: 0.0,
+            },
+        }],
+        ..Excitation::default()
+    };
+    let response = simulate(&system, &excitation, &settings, None).unwrap();
+    let uz = sub.dof_map.index_of(Dof::new(tip, DofKind::Uz)).unwrap();
+    let tip_uz: Vec<f64> = response
+        .states
+        .iter()
+        .map(|s| (0..nq).map(|k| basis.shapes[(uz, k)] * s.x[k]).sum())
+        .collect();
+    // Full matrices and the mode shapes.
+    let coordinate = |m: &flexbody::linalg::SparseMat| {
+        let t = flexbody::linalg::sparse::triplets_of(m, 1.0);
+        let mut s = format!(
+            "%%MatrixMarket matrix coordinate real general\n{} {} {}\n",
+            m.nrows(),
+            m.ncols(),
+            t.len()
+        );
+        for e in t {
+            s.push_str(&format!("{} {} {:e}\n", e.row + 1, e.col + 1, e.val));
+        }
+        s
+    };
+    std::fs::write(dir.join("mass.mtx"), coordinate(&sub.matrices.mass)).unwrap();
+    std::fs::write(
+        dir.join("stiffness.mtx"),
+        coordinate(&sub.matrices.stiffness),
+    )
+    .unwrap();
+    let mut modes = format!(
+        "%%MatrixMarket matrix array real general\n{} {}\n",
+        basis.shapes.nrows(),
+        nq
+    );
+    for k in 0..nq {
+        for i in 0..basis.shapes.nrows() {
+            modes.push_str(&format!("{:e}\n", basis.shapes[(i, k)]));
+        }
+    }
+    std::fs::write(dir.join("modes.mtx"), modes).unwrap();
+    let mut nodes = String::new();
+    let mut tip_index = None;
+    for (p, i) in (0..sub.dof_map.len()).step_by(3).enumerate() {
+        let d = sub.dof_map.dof(i);
+        assert_eq!(d.kind, DofKind::Ux, "3 translations per node");
+        if d.node == tip {
+            tip_index = Some(p);
+        }
+        let x = sub.node_coordinates(d.node).unwrap();
+        nodes.push_str(&format!("{:e} {:e} {:e}\n", x[0], x[1], x[2]));
+    }
+    std::fs::write(dir.join("nodes.txt"), nodes).unwrap();
+    let doc = serde_json::json!({
+        "frequencies_hz": basis.frequencies_hz,
+        "tip_node_index": tip_index.unwrap(),
+        "tip_node_id": tip,
+        "force": {"direction": [0.0, 0.0, 1.0], "amplitude": amplitude, "frequency_hz": frequency_hz},
+        "step": settings.step,
+        "duration": settings.duration,
+        "times": response.times,
+        "tip_uz": tip_uz,
+    });
+    std::fs::write(dir.join("flexbody.json"), doc.to_string()).unwrap();
+}
