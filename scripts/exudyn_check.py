@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A real MBS client for flexbody's reduced bodies: Exudyn (FFRF).
 
-The integration test `exchange::exudyn_agrees_with_flexbody` writes, into
+The integration test `exudyn::exudyn_agrees_with_flexbody` writes, into
 WORKDIR, the free C3D8 bar tests/fixtures/calculix/hex_beam reduced by
 free-residual (tip node 13, 4 eigenmodes; in its SID elastic coordinates,
 mean axes, 7 modes):

@@ -5,7 +5,7 @@
 #     matrices against a live ccx (crates/fem) and the stored fixtures
 #     (scripts/calculix_fixtures.sh check);
 #   - numpy, scipy and exudyn for python3 (pip), for scripts/exudyn_check.py,
-#     run by the test exchange::exudyn_agrees_with_flexbody.
+#     run by the test exudyn::exudyn_agrees_with_flexbody.
 # Prints the versions found.
 set -euo pipefail
 
