@@ -6,8 +6,9 @@
 //! recovery of element quantities, which matrices alone cannot give.
 
 use crate::fem::{Dof, Model, Substructure, SystemMatrices};
-use crate::io::{read_model_file, InputError, ModelFile};
+use crate::io::InputError;
 use crate::reduce::{Method, Reduction};
+use crate::scenario::{read_model_file, ModelFile};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

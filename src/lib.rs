@@ -11,12 +11,13 @@
 //! Data flows one way, one crate per stage:
 //! [`fem`] (model, K, M) -> [`reduce`] (modes, [`reduce::ReducedBody`]) ->
 //! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
-//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads model files and
-//! [`export`] writes reduced bodies.
+//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads FE
+//! models, [`scenario`] what a model file does with its model (interface,
+//! MBS, study), and [`export`] writes reduced bodies.
 //!
 //! ```no_run
-//! use flexbody::{fem, io, reduce};
-//! let file = io::read_model_file("examples/side_beam.toml".as_ref())?;
+//! use flexbody::{fem, reduce, scenario};
+//! let file = scenario::read_model_file("examples/side_beam.toml".as_ref())?;
 //! let sub = fem::Substructure::from_model(&file.model)?;
 //! let spec = reduce::Reduction::new(reduce::Method::FreeResidual, 1, file.interface.clone());
 //! let body = reduce::reduce(&sub, &spec)?;
@@ -27,6 +28,7 @@
 pub mod input;
 pub mod plot;
 pub mod report;
+pub mod scenario;
 pub mod simulate;
 pub mod study;
 

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
 use flexbody::simulate::HistoryKind;
-use flexbody::{export, fem, input, io, plot, reduce as red, simulate, study};
+use flexbody::{export, fem, input, plot, reduce as red, scenario, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -301,7 +301,7 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
             Path::new("out").join(stem)
         })
     });
-    let file = io::read_model_file(model)?;
+    let file = scenario::read_model_file(model)?;
     let folder = dir.as_deref().map(output_folder).transpose()?;
     let result = study::run_study(&file)?;
     let mut plots = None;
@@ -690,8 +690,8 @@ impl Drop for OutputFolder {
 }
 
 /// The model file, its substructure and the body a simulation uses.
-fn vehicle(model: &Path) -> Result<(io::ModelFile, fem::Substructure)> {
-    let file = io::read_model_file(model)?;
+fn vehicle(model: &Path) -> Result<(scenario::ModelFile, fem::Substructure)> {
+    let file = scenario::read_model_file(model)?;
     let sub = fem::Substructure::from_model(&file.model)?;
     Ok((file, sub))
 }

@@ -3,9 +3,39 @@
 //! Real parts are drawn (the in-phase response; the example's excitation is
 //! real). SVG needs no fonts.
 
-use crate::study::{BeamResponse, Field};
+use crate::study::{fmt_omega, BeamResponse, Field, StudyResult};
 use plotters::prelude::*;
 use std::path::Path;
+
+/// The plots of a study in `dir`: per excitation frequency a convergence
+/// plot (`convergence_omega<Omega>.svg`), and per case with curves the
+/// reduced response over the reference (`<method>_r<r>_omega<Omega>.svg`).
+pub fn plot_study(dir: &Path, result: &StudyResult) -> Result<(), String> {
+    for omega in result.references.iter().map(|(o, _)| *o) {
+        let (what, series) = result.convergence(omega);
+        plot_convergence(
+            &dir.join(format!("convergence_omega{}.svg", fmt_omega(omega))),
+            &format!(
+                "error of {what} against r, Omega = {} rad/s",
+                fmt_omega(omega)
+            ),
+            &series,
+        )?;
+    }
+    for case in result.cases.iter().filter(|c| !c.reduced.m.x.is_empty()) {
+        let (method, r, omega) = (case.row.method, case.row.r, fmt_omega(case.row.omega));
+        let reference = result
+            .reference(case.row.omega)
+            .ok_or_else(|| format!("no reference at Omega = {omega} rad/s"))?;
+        plot_case(
+            &dir.join(format!("{method}_r{r}_omega{omega}.svg")),
+            &format!("{method}, r = {r}, Omega = {omega} rad/s: reduced (dashed) over reference"),
+            reference,
+            &case.reduced,
+        )?;
+    }
+    Ok(())
+}
 
 /// Writes one SVG with three panels (w, M, Q) to `path`.
 pub fn plot_case(

@@ -3,12 +3,14 @@
 //! (`t^T M t` for a unit translation `t`), its natural frequencies with a
 //! diagnosis of mechanisms, and the comparison of a reduced body's
 //! frequencies with the full model's (eigenvalues of `K_red`, `M_red`
-//! against those of `K`, `M`, eq. 5-7).
+//! against those of `K`, `M`, eq. 5-7), the size of a sparse factor, and
+//! the study's table.
 
 use crate::fem::{DofKind, Substructure, Support};
 use crate::input::Component;
 use crate::reduce::modes::{eigenmodes, eigenmodes_owned, rigid_motion_count, Band, ZERO_GAP};
 use crate::reduce::{ReduceError, ReducedBody};
+use crate::study::{fmt_omega, StudyResult};
 use std::fmt;
 
 /// The mass of `sub` along x, y and z: `t^T M t` for the unit translation
@@ -219,4 +221,51 @@ pub fn compare_frequencies(
         reduced_hz,
         full_hz,
     })
+}
+
+/// The study table as the command line prints it: the title, a line on the
+/// reference (`dofs` DOFs of the full model), a header, and a row per case
+/// with the relative errors of w, M and Q (beam models), the connection
+/// forces and von Mises (solid models).
+pub fn study_table(result: &StudyResult, dofs: usize) -> String {
+    let mut lines = Vec::new();
+    if let Some(t) = &result.title {
+        lines.push(t.clone());
+    }
+    lines.push(format!(
+        "reference: full model, {dofs} DOFs; errors: max |reduced - reference| / max |reference|"
+    ));
+    let rows = result.rows();
+    let beams = rows.first().is_some_and(|r| r.err_m.is_some());
+    let solids = rows.first().is_some_and(|r| r.err_vm.is_some());
+    let mut header = format!(
+        "{:<18} {:>4} {:>14} {:>10}",
+        "method", "r", "Omega (rad/s)", "err w"
+    );
+    if beams {
+        header += &format!(" {:>10} {:>10}", "err M", "err Q");
+    }
+    header += &format!(" {:>10}", "err F");
+    if solids {
+        header += &format!(" {:>10}", "err vm");
+    }
+    lines.push(header);
+    for row in &rows {
+        let mut line = format!(
+            "{:<18} {:>4} {:>14} {:>10.2e}",
+            row.method.name(),
+            row.r,
+            fmt_omega(row.omega),
+            row.err_w
+        );
+        if let (Some(m), Some(q)) = (row.err_m, row.err_q) {
+            line += &format!(" {m:>10.2e} {q:>10.2e}");
+        }
+        line += &format!(" {:>10.2e}", row.err_force);
+        if let Some(v) = row.err_vm {
+            line += &format!(" {v:>10.2e}");
+        }
+        lines.push(line);
+    }
+    lines.join("\n")
 }

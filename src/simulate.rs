@@ -5,10 +5,10 @@
 //! Ritz coordinates by eq. 25 with `q''`.
 
 use crate::fem::{Element, FemError, Substructure};
-use crate::io::{BodySource, ModelFile, SimulationSpec};
 use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
 use crate::reduce::{reduce, ReduceError, ReducedBody};
+use crate::scenario::{BodySource, ModelFile, SimulationSpec};
 
 /// Named histories sampled at common times (SI units).
 #[derive(Clone, Debug, Default)]

@@ -13,10 +13,10 @@
 
 use crate::fem::FemError;
 use crate::fem::{DofKind, Substructure};
-use crate::io::{CaseSpec, ModelFile, StudySpec};
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
 use crate::recover::{harmonic_section_forces, nodal_values};
 use crate::reduce::{reduce, Method, ReduceError};
+use crate::scenario::{CaseSpec, ModelFile, StudySpec};
 use serde::Serialize;
 
 /// A quantity along the beam: positions (m) and complex amplitudes.
@@ -137,6 +137,49 @@ impl StudyResult {
     pub fn rows(&self) -> Vec<CaseRow> {
         self.cases.iter().map(|c| c.row.clone()).collect()
     }
+
+    /// The error that measures a case at `omega` against r, one series of
+    /// `(r, error)` points per method: von Mises for solid models, the shear
+    /// force Q for beam models, else the connection forces (errors floored
+    /// at 1e-17 for a logarithmic axis). Returns what the error is of, and
+    /// the series.
+    pub fn convergence(&self, omega: f64) -> (&'static str, Vec<(String, Vec<(f64, f64)>)>) {
+        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+        for c in self.cases.iter().filter(|c| c.row.omega == omega) {
+            let err = c
+                .row
+                .err_vm
+                .or(c.row.err_q)
+                .unwrap_or(c.row.err_force)
+                .max(1e-17);
+            let name = c.row.method.name().to_string();
+            match series.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, pts)) => pts.push((c.row.r as f64, err)),
+                None => series.push((name, vec![(c.row.r as f64, err)])),
+            }
+        }
+        let what = if self.cases.iter().any(|c| c.row.err_vm.is_some()) {
+            "von Mises at the most stressed nodes"
+        } else {
+            "shear force Q"
+        };
+        (what, series)
+    }
+
+    /// The reference response at `omega`.
+    pub fn reference(&self, omega: f64) -> Option<&BeamResponse> {
+        self.references
+            .iter()
+            .find(|(o, _)| *o == omega)
+            .map(|(_, r)| r)
+    }
+}
+
+/// An excitation frequency as a short text: at most six decimals, no
+/// trailing zeros (`122`, `12.5`).
+pub fn fmt_omega(omega: f64) -> String {
+    let s = format!("{omega:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// Errors of the study, naming the case.

@@ -4,8 +4,8 @@
 
 use super::support::{fails_with, flexbody, stderr};
 use flexbody::fem::{Dof, DofKind, Substructure};
-use flexbody::io::read_model_file;
 use flexbody::reduce::{reduce, ForceGroup, Method, ReduceError, Reduction};
+use flexbody::scenario::read_model_file;
 use std::path::{Path, PathBuf};
 
 /// A chain of `n` masses on springs of 1e4 N/m, held at both ends, in

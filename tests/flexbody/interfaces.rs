@@ -2,9 +2,9 @@
 //! the report's study on a solid mesh.
 
 use flexbody::fem::{Dof, DofKind, Substructure};
-use flexbody::io::{parse_model_file, read_model_file, CaseSpec, StudySpec};
 use flexbody::mbs::FlexibleBody;
 use flexbody::reduce::{reduce, ForceGroup, Method, Reduction};
+use flexbody::scenario::{parse_model_file, read_model_file, CaseSpec, StudySpec};
 use flexbody::study::{respond, run_cases, run_study, CaseRow};
 use std::path::PathBuf;
 

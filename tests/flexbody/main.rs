@@ -19,8 +19,8 @@ mod support;
 mod vehicle;
 
 use flexbody::fem::Substructure;
-use flexbody::io::{read_model_file, CaseSpec, ModelFile};
 use flexbody::reduce::{Method, ReducedBody};
+use flexbody::scenario::{read_model_file, CaseSpec, ModelFile};
 use flexbody::study::reduce_case;
 use std::path::PathBuf;
 

@@ -123,7 +123,7 @@ fn mib_after(text: &str, key: &str) -> f64 {
 /// Equations of a model file and the entries of the lower triangle
 /// (diagonal included) of its assembled stiffness matrix.
 fn stiffness_pattern(path: &Path) -> (usize, usize) {
-    let file = flexbody::io::read_model_file(path).unwrap();
+    let file = flexbody::scenario::read_model_file(path).unwrap();
     let sub = flexbody::fem::Substructure::from_model(&file.model).unwrap();
     let k = sub.matrices.stiffness.as_ref();
     let lower = (0..k.ncols())

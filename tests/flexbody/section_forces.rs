@@ -4,10 +4,10 @@
 
 use super::study::{ELEMENT, HEAVE, RHO_A, STATIC};
 use flexbody::fem::{Dof, DofKind, Substructure};
-use flexbody::io::read_model_file;
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::{harmonic_section_forces, ModalRecovery};
 use flexbody::reduce::Method;
+use flexbody::scenario::read_model_file;
 use flexbody::study::respond;
 
 #[test]
@@ -109,7 +109,7 @@ fn section_forces_balance_the_spring_forces() {
 /// The full model in the example's MBS at `omega`: the response and the
 /// FE displacements (re, im).
 fn full_solution(
-    file: &flexbody::io::ModelFile,
+    file: &flexbody::scenario::ModelFile,
     sub: &Substructure,
     omega: f64,
 ) -> (flexbody::mbs::HarmonicResponse, (Vec<f64>, Vec<f64>)) {

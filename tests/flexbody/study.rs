@@ -2,12 +2,12 @@
 //! and recovery behind it.
 
 use flexbody::fem::Substructure;
-use flexbody::io::{parse_model_file, read_model_file, CaseSpec, StudySpec};
 use flexbody::linalg::eigen::generalized_symmetric;
 use flexbody::linalg::sparse::{max_abs, project};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::harmonic_section_forces;
 use flexbody::reduce::{reduce, Method, Reduction};
+use flexbody::scenario::{parse_model_file, read_model_file, CaseSpec, StudySpec};
 use flexbody::study::{respond, run_cases, run_study, CaseRow};
 
 pub(super) const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;

@@ -3,8 +3,8 @@
 //! of one- and two-mass oscillators, modal damping, and bad input.
 
 use flexbody::fem::{Dof, DofKind, Substructure};
-use flexbody::io::{parse_model_file, read_model_file, ModelFile};
 use flexbody::mbs::{damped_modes, harmonic_response, FlexibleBody, System};
+use flexbody::scenario::{parse_model_file, read_model_file, ModelFile};
 use flexbody::simulate::{run_frf, run_simulation, simulation_body, Histories};
 use std::path::PathBuf;
 

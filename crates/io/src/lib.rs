@@ -1,22 +1,22 @@
-//! Input files of flexbody.
+//! Reads FE models: decks, matrices and the model part of TOML model files.
 //!
 //! [`deck`] reads Abaqus/CalculiX input decks (`.inp`); [`matrices`] reads
 //! FE matrices written by other programs (CalculiX `.sti`/`.mas`/`.dof`,
-//! Matrix Market). [`model_file`] reads the project's TOML model files: the FE model (nodes,
-//! beam lines, elements, sets, boundary conditions, damping), the interface,
-//! the MBS around the body (rigid bodies, connections, track) and the study
-//! cases. Units are SI throughout (m, kg, s, N, Pa, rad, rad/s). Every error
-//! names the file and, where it comes from a line of the file, the line.
+//! Matrix Market); [`model_toml`] reads the FE model of the project's TOML
+//! model files (nodes, beam lines, elements, sets, boundary conditions,
+//! couplings, damping, or a deck it names). What is done with a model
+//! (interface, MBS, study) is not read here. Units are SI throughout (m, kg,
+//! s, N, Pa, rad, rad/s). Every error names the file and, where it comes from
+//! a line of the file, the line.
 
 pub mod deck;
 pub mod matrices;
-pub mod model_file;
+pub mod model_toml;
+mod toml_source;
 
 pub use deck::{parse_deck, read_deck, Deck};
-pub use model_file::{
-    parse_model_file, read_model_file, read_profile, BodySource, CaseSpec, FrfSpec, ModelFile,
-    SimulationSpec, StudySpec,
-};
+pub use model_toml::{parse_model_toml, ModelToml};
+pub use toml_source::TomlSource;
 
 use std::path::PathBuf;
 

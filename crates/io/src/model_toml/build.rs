@@ -1,0 +1,490 @@
+//! From the raw model sections to a checked [`Model`], one section at a
+//! time, in the order the sections depend on each other: materials and
+//! sections, nodes, beam lines, the deck's mesh, elements, node sets,
+//! boundary conditions, couplings. Every error names the line.
+
+use super::raw::{BeamKind, RawElement, RawModel};
+use crate::{InputError, TomlSource};
+use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
+use flexbody_fem::section::SectionConstants;
+use flexbody_fem::{
+    BeamProperties, BeamTheory, Coupling, Dof, Element, FemError, Material, Model, Node,
+};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use toml::Spanned;
+
+/// Checks the raw sections and assembles the model they describe.
+pub(crate) fn build(src: TomlSource<'_>, raw: &RawModel) -> Result<Model, InputError> {
+    let mut b = Builder::new(src, raw)?;
+    for n in &raw.nodes {
+        let (id, x, y, z) = *n.get_ref();
+        b.add_node(id, [x, y, z], n.span().start)?;
+    }
+    b.beam_lines(raw)?;
+    if let Some(mesh) = &raw.mesh {
+        b.deck_mesh(mesh)?;
+    }
+    let known: HashSet<u64> = b.nodes.iter().map(|n| n.id).collect();
+    b.elements(raw, &known)?;
+    b.node_sets(raw, &known)?;
+    b.boundaries(raw, &known)?;
+    let couplings = b.couplings(raw, &known)?;
+    b.finish(raw, couplings)
+}
+
+/// The model as it grows, with the line each node and element came from.
+struct Builder<'a> {
+    src: TomlSource<'a>,
+    materials: HashMap<String, Material>,
+    sections: HashMap<String, SectionConstants>,
+    nodes: Vec<Node>,
+    node_line: HashMap<u64, usize>,
+    elements: Vec<Element>,
+    element_line: HashMap<usize, usize>,
+    sets: BTreeMap<String, Vec<u64>>,
+    fixed: Vec<Dof>,
+    /// Fixed DOFs of the deck, applied after the file's own.
+    deck_fixed: Vec<Dof>,
+}
+
+impl<'a> Builder<'a> {
+    /// A builder that knows the file's materials and sections.
+    fn new(src: TomlSource<'a>, raw: &RawModel) -> Result<Self, InputError> {
+        let mut materials = HashMap::new();
+        for m in &raw.material {
+            let mat = Material::new(
+                *m.youngs_modulus.get_ref(),
+                *m.poisson_ratio.get_ref(),
+                *m.density.get_ref(),
+            )
+            .map_err(|e| {
+                let which = if *m.density.get_ref() < 0.0 || !m.density.get_ref().is_finite() {
+                    &m.density
+                } else if *m.youngs_modulus.get_ref() <= 0.0 {
+                    &m.youngs_modulus
+                } else {
+                    &m.poisson_ratio
+                };
+                src.at(which, format!("material '{}': {e}", m.name.get_ref()))
+            })?;
+            if materials.insert(m.name.get_ref().clone(), mat).is_some() {
+                return Err(src.at(
+                    &m.name,
+                    format!("material '{}' is defined twice", m.name.get_ref()),
+                ));
+            }
+        }
+        let mut sections = HashMap::new();
+        for s in &raw.section {
+            let c = s
+                .get_ref()
+                .shape
+                .constants()
+                .map_err(|e| src.at(s, format!("section '{}': {e}", s.get_ref().name)))?;
+            if sections.insert(s.get_ref().name.clone(), c).is_some() {
+                return Err(src.at(
+                    s,
+                    format!("section '{}' is defined twice", s.get_ref().name),
+                ));
+            }
+        }
+        Ok(Self {
+            src,
+            materials,
+            sections,
+            nodes: Vec::new(),
+            node_line: HashMap::new(),
+            elements: Vec::new(),
+            element_line: HashMap::new(),
+            sets: BTreeMap::new(),
+            fixed: Vec::new(),
+            deck_fixed: Vec::new(),
+        })
+    }
+
+    /// Beam properties from a material and a section named in the file.
+    fn properties(
+        &self,
+        mat: &Spanned<String>,
+        sec: &Spanned<String>,
+        theory: BeamTheory,
+        rotary: Option<bool>,
+    ) -> Result<BeamProperties, InputError> {
+        let m = self.materials.get(mat.get_ref()).ok_or_else(|| {
+            self.src
+                .at(mat, format!("material '{}' is not defined", mat.get_ref()))
+        })?;
+        let s = self.sections.get(sec.get_ref()).ok_or_else(|| {
+            self.src
+                .at(sec, format!("section '{}' is not defined", sec.get_ref()))
+        })?;
+        let mut p = BeamProperties::new(m.clone(), s.clone(), theory);
+        if let Some(r) = rotary {
+            p.rotary_inertia = r;
+        }
+        Ok(p)
+    }
+
+    fn add_node(&mut self, id: u64, coords: [f64; 3], offset: usize) -> Result<(), InputError> {
+        if let Some(first) = self.node_line.insert(id, self.src.line(offset)) {
+            return Err(self.src.error(
+                Some(offset),
+                format!("node {id} is defined twice (first on line {first})"),
+            ));
+        }
+        if coords.iter().any(|c| !c.is_finite()) {
+            return Err(self.src.error(
+                Some(offset),
+                format!("node {id} has a non-finite coordinate"),
+            ));
+        }
+        self.nodes.push(Node { id, coords });
+        Ok(())
+    }
+
+    fn add_element(&mut self, e: Element, offset: usize) -> Result<(), InputError> {
+        if let Some(first) = self.element_line.insert(e.id(), self.src.line(offset)) {
+            return Err(self.src.error(
+                Some(offset),
+                format!(
+                    "element {} is defined twice (first on line {first})",
+                    e.id()
+                ),
+            ));
+        }
+        self.elements.push(e);
+        Ok(())
+    }
+
+    /// `[[beam_line]]`: equally spaced nodes and the beams between them.
+    fn beam_lines(&mut self, raw: &RawModel) -> Result<(), InputError> {
+        let mut next_element = 1;
+        for line in &raw.beam_line {
+            let b = line.get_ref();
+            let offset = line.span().start;
+            if b.elements == 0 {
+                return Err(self.src.at(line, "beam_line needs at least one element"));
+            }
+            let p = self.properties(&b.material, &b.section, b.theory, b.rotary_inertia)?;
+            if b.element == BeamKind::PlanarBeam && b.theory != BeamTheory::EulerBernoulli {
+                return Err(self.src.at(line, "planar-beam elements are Euler-Bernoulli; use element = \"beam\" for Timoshenko"));
+            }
+            let ids: Vec<u64> = (0..=b.elements as u64).map(|i| b.first_node + i).collect();
+            for (i, id) in ids.iter().enumerate() {
+                let t = i as f64 / b.elements as f64;
+                let c = [0, 1, 2].map(|k| b.from[k] + t * (b.to[k] - b.from[k]));
+                self.add_node(*id, c, offset)?;
+            }
+            let first = b.first_element.unwrap_or(next_element);
+            for i in 0..b.elements {
+                let id = first + i;
+                let nodes = [ids[i], ids[i + 1]];
+                let e = match b.element {
+                    BeamKind::PlanarBeam => Element::PlanarBeam(PlanarBeam {
+                        id,
+                        nodes,
+                        properties: p.clone(),
+                    }),
+                    BeamKind::Beam => Element::Beam(Beam {
+                        id,
+                        nodes,
+                        properties: p.clone(),
+                        orientation: b.orientation.ok_or_else(|| {
+                            self.src.at(
+                                line,
+                                "beam_line of 3D beams needs an orientation (local y direction)",
+                            )
+                        })?,
+                    }),
+                };
+                self.add_element(e, offset)?;
+            }
+            next_element = first + b.elements;
+            if let Some(set) = &b.set {
+                self.sets.entry(set.clone()).or_default().extend(ids);
+            }
+        }
+        Ok(())
+    }
+
+    /// `mesh = "deck.inp"`: the deck's nodes, elements, node sets and fixed
+    /// DOFs.
+    fn deck_mesh(&mut self, mesh: &Spanned<String>) -> Result<(), InputError> {
+        let deck = crate::deck::read_deck(&self.src.relative(mesh.get_ref()))?;
+        let offset = mesh.span().start;
+        for n in deck.model.nodes() {
+            self.add_node(n.id, n.coords, offset)?;
+        }
+        for e in deck.model.elements() {
+            self.add_element(e.clone(), offset)?;
+        }
+        for (name, set) in deck.model.node_sets() {
+            self.sets
+                .entry(name.clone())
+                .or_default()
+                .extend(set.iter().copied());
+        }
+        self.deck_fixed = deck.model.fixed_dofs().copied().collect();
+        Ok(())
+    }
+
+    fn check_node(
+        &self,
+        known: &HashSet<u64>,
+        node: u64,
+        offset: usize,
+        what: &str,
+    ) -> Result<(), InputError> {
+        if known.contains(&node) {
+            Ok(())
+        } else {
+            Err(self.src.error(
+                Some(offset),
+                format!("{what} refers to node {node}, which does not exist"),
+            ))
+        }
+    }
+
+    /// `[[element]]`: single beams, point masses and springs.
+    fn elements(&mut self, raw: &RawModel, known: &HashSet<u64>) -> Result<(), InputError> {
+        for e in &raw.element {
+            let offset = e.span().start;
+            let named = |s: &String| Spanned::new(e.span(), s.clone());
+            let element = match e.get_ref() {
+                RawElement::PlanarBeam {
+                    id,
+                    nodes,
+                    material,
+                    section,
+                    rotary_inertia,
+                } => Element::PlanarBeam(PlanarBeam {
+                    id: *id,
+                    nodes: *nodes,
+                    properties: self.properties(
+                        &named(material),
+                        &named(section),
+                        BeamTheory::EulerBernoulli,
+                        *rotary_inertia,
+                    )?,
+                }),
+                RawElement::Beam {
+                    id,
+                    nodes,
+                    material,
+                    section,
+                    theory,
+                    rotary_inertia,
+                    orientation,
+                } => Element::Beam(Beam {
+                    id: *id,
+                    nodes: *nodes,
+                    properties: self.properties(
+                        &named(material),
+                        &named(section),
+                        *theory,
+                        *rotary_inertia,
+                    )?,
+                    orientation: *orientation,
+                }),
+                RawElement::PointMass {
+                    id,
+                    node,
+                    mass,
+                    inertia,
+                } => {
+                    flexbody_fem::require_non_negative(format!("mass of point mass {id}"), *mass)
+                        .map_err(|x| self.src.error(Some(offset), x.to_string()))?;
+                    Element::PointMass(PointMass {
+                        id: *id,
+                        node: *node,
+                        mass: *mass,
+                        inertia: *inertia,
+                    })
+                }
+                RawElement::Spring {
+                    id,
+                    dof,
+                    to,
+                    stiffness,
+                } => {
+                    flexbody_fem::require_positive(format!("stiffness of spring {id}"), *stiffness)
+                        .map_err(|x| self.src.error(Some(offset), x.to_string()))?;
+                    Element::Spring(Spring {
+                        id: *id,
+                        first: dof.dof(),
+                        second: to.map(|t| t.dof()),
+                        stiffness: *stiffness,
+                    })
+                }
+            };
+            for node in element.nodes() {
+                self.check_node(known, node, offset, &format!("element {}", element.id()))?;
+            }
+            self.add_element(element, offset)?;
+        }
+        Ok(())
+    }
+
+    /// `[sets]`: named node sets, added to those of beam lines and the deck.
+    fn node_sets(&mut self, raw: &RawModel, known: &HashSet<u64>) -> Result<(), InputError> {
+        for (name, set) in &raw.sets {
+            for node in set.get_ref() {
+                self.check_node(
+                    known,
+                    *node,
+                    set.span().start,
+                    &format!("node set '{name}'"),
+                )?;
+            }
+            self.sets
+                .entry(name.clone())
+                .or_default()
+                .extend(set.get_ref().iter().copied());
+        }
+        Ok(())
+    }
+
+    /// `[[boundary]]`: fixed DOFs, then those of the deck.
+    fn boundaries(&mut self, raw: &RawModel, known: &HashSet<u64>) -> Result<(), InputError> {
+        for b in &raw.boundary {
+            self.check_node(
+                known,
+                b.get_ref().node,
+                b.span().start,
+                "boundary condition",
+            )?;
+            let node = b.get_ref().node;
+            self.fixed
+                .extend(b.get_ref().dofs.iter().map(|k| Dof::new(node, *k)));
+        }
+        let deck_fixed = std::mem::take(&mut self.deck_fixed);
+        self.fixed.extend(deck_fixed);
+        Ok(())
+    }
+
+    /// `[[coupling]]`: interface points, new nodes coupled to node sets
+    /// (RBE2/RBE3), each with the offset of its entry.
+    fn couplings(
+        &mut self,
+        raw: &RawModel,
+        known: &HashSet<u64>,
+    ) -> Result<Vec<(usize, Coupling)>, InputError> {
+        let mut couplings = Vec::new();
+        for c in &raw.coupling {
+            let r = c.get_ref();
+            let what = format!("coupling '{}'", r.name);
+            let members: Vec<u64> = match (&r.set, &r.nodes) {
+                (Some(set), None) => {
+                    let key = self.sets.keys().find(|k| k.eq_ignore_ascii_case(set));
+                    match key {
+                        Some(k) => self.sets[k].clone(),
+                        None => {
+                            return Err(self
+                                .src
+                                .at(c, format!("{what}: node set '{set}' does not exist")))
+                        }
+                    }
+                }
+                (None, Some(list)) => list.clone(),
+                _ => {
+                    return Err(self
+                        .src
+                        .at(c, format!("{what}: give either `set` or `nodes`")))
+                }
+            };
+            if members.is_empty() {
+                return Err(self.src.at(c, format!("{what}: its node set is empty")));
+            }
+            for n in &members {
+                self.check_node(known, *n, c.span().start, &what)?;
+            }
+            let position = r.position.unwrap_or_else(|| self.centroid(&members));
+            self.add_node(r.point, position, c.span().start)?;
+            couplings.push((
+                c.span().start,
+                Coupling {
+                    name: r.name.clone(),
+                    kind: r.kind,
+                    point: r.point,
+                    nodes: members,
+                    weights: r.weights.clone(),
+                },
+            ));
+        }
+        Ok(couplings)
+    }
+
+    /// The mean position of existing nodes.
+    fn centroid(&self, members: &[u64]) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for n in members {
+            let x = self
+                .nodes
+                .iter()
+                .find(|x| x.id == *n)
+                .map_or([0.0; 3], |x| x.coords);
+            for k in 0..3 {
+                p[k] += x[k] / members.len() as f64;
+            }
+        }
+        p
+    }
+
+    /// The model, its couplings eliminated; errors of the model and of
+    /// element geometry point at the line of the element, boundary condition
+    /// or coupling where they can.
+    fn finish(
+        self,
+        raw: &RawModel,
+        couplings: Vec<(usize, Coupling)>,
+    ) -> Result<Model, InputError> {
+        let src = self.src;
+        let coupling_lines: Vec<(String, usize)> = couplings
+            .iter()
+            .map(|(o, c)| (c.name.clone(), src.line(*o)))
+            .collect();
+        let element_line = self.element_line;
+        let model = Model::new(
+            self.nodes,
+            self.elements,
+            self.sets,
+            self.fixed,
+            raw.damping,
+        )
+        .and_then(|m| m.with_couplings(couplings.into_iter().map(|(_, c)| c).collect()))
+        .map_err(|e| {
+            let line = match &e {
+                FemError::ZeroLength { element }
+                | FemError::PlanarBeamNotAlongX { element }
+                | FemError::OrientationParallel { element, .. } => {
+                    element_line.get(element).copied()
+                }
+                FemError::UnknownDof { node, .. } => raw
+                    .boundary
+                    .iter()
+                    .find(|b| b.get_ref().node == *node)
+                    .map(|b| src.line(b.span().start)),
+                FemError::InvalidCoupling { name, .. } => coupling_lines
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map(|(_, l)| *l),
+                _ => None,
+            };
+            InputError::Invalid {
+                path: src.path.to_path_buf(),
+                line,
+                message: e.to_string(),
+            }
+        })?;
+        // Element geometry errors (zero length, orientation) with their
+        // line, before any computation starts.
+        for e in model.elements() {
+            e.validate(&model).map_err(|x| InputError::Invalid {
+                path: src.path.to_path_buf(),
+                line: element_line.get(&e.id()).copied(),
+                message: x.to_string(),
+            })?;
+        }
+        Ok(model)
+    }
+}

@@ -1,0 +1,35 @@
+//! The model part of a TOML model file (format documented in
+//! `docs/model-file.md`): title, mesh deck, materials, sections, nodes,
+//! beam lines, elements, node sets, boundary conditions, couplings and
+//! damping, read into a [`flexbody_fem::Model`].
+//!
+//! The file's other tables (interface, MBS, study, simulation, frequency
+//! response) describe what is done with the model; they are read by the
+//! scenario reader of the `flexbody` crate, which also refuses top-level
+//! keys that neither knows. Here they are skipped.
+
+mod build;
+mod raw;
+
+pub use raw::DofEntry;
+
+use crate::{InputError, TomlSource};
+use flexbody_fem::Model;
+
+/// The FE model a TOML file describes.
+#[derive(Clone, Debug)]
+pub struct ModelToml {
+    pub title: Option<String>,
+    pub model: Model,
+}
+
+/// Reads the model sections of a TOML text and builds the model; errors
+/// name the file and line.
+pub fn parse_model_toml(src: TomlSource<'_>) -> Result<ModelToml, InputError> {
+    let raw: raw::RawModel = src.parse()?;
+    let model = build::build(src, &raw)?;
+    Ok(ModelToml {
+        title: raw.title,
+        model,
+    })
+}

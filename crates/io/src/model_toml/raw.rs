@@ -1,0 +1,161 @@
+//! The model sections of a TOML model file as written, with source spans.
+//! Checked and turned into a [`flexbody_fem::Model`] by [`super::build`].
+
+use flexbody_fem::{BeamTheory, CouplingKind, DofKind, Rayleigh, SectionShape};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// The top-level keys that describe the FE model. Other top-level tables
+/// (interface, MBS, study) are the caller's: they are skipped here, and the
+/// caller refuses keys that neither it nor this struct knows.
+#[derive(Deserialize)]
+pub(crate) struct RawModel {
+    pub title: Option<String>,
+    /// An Abaqus/CalculiX deck with the FE model (relative to this file).
+    pub mesh: Option<Spanned<String>>,
+    #[serde(default)]
+    pub coupling: Vec<Spanned<RawCoupling>>,
+    #[serde(default)]
+    pub material: Vec<RawMaterial>,
+    #[serde(default)]
+    pub section: Vec<Spanned<RawSection>>,
+    #[serde(default)]
+    pub nodes: Vec<Spanned<(u64, f64, f64, f64)>>,
+    #[serde(default)]
+    pub beam_line: Vec<Spanned<RawBeamLine>>,
+    #[serde(default)]
+    pub element: Vec<Spanned<RawElement>>,
+    #[serde(default)]
+    pub sets: BTreeMap<String, Spanned<Vec<u64>>>,
+    #[serde(default)]
+    pub boundary: Vec<Spanned<RawBoundary>>,
+    pub damping: Option<Rayleigh>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMaterial {
+    pub name: Spanned<String>,
+    pub youngs_modulus: Spanned<f64>,
+    #[serde(default = "default_poisson")]
+    pub poisson_ratio: Spanned<f64>,
+    pub density: Spanned<f64>,
+}
+
+fn default_poisson() -> Spanned<f64> {
+    Spanned::new(0..0, 0.3)
+}
+
+#[derive(Deserialize)]
+pub(crate) struct RawSection {
+    pub name: String,
+    #[serde(flatten)]
+    pub shape: SectionShape,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum BeamKind {
+    PlanarBeam,
+    Beam,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawBeamLine {
+    pub element: BeamKind,
+    #[serde(default)]
+    pub theory: BeamTheory,
+    #[serde(default)]
+    pub rotary_inertia: Option<bool>,
+    pub from: [f64; 3],
+    pub to: [f64; 3],
+    pub elements: usize,
+    pub first_node: u64,
+    #[serde(default)]
+    pub first_element: Option<usize>,
+    pub material: Spanned<String>,
+    pub section: Spanned<String>,
+    #[serde(default)]
+    pub orientation: Option<[f64; 3]>,
+    #[serde(default)]
+    pub set: Option<String>,
+}
+
+/// One DOF as a TOML table: `{ node = 7, dof = "uz" }`.
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DofEntry {
+    pub node: u64,
+    pub dof: DofKind,
+}
+
+impl DofEntry {
+    pub fn dof(self) -> flexbody_fem::Dof {
+        flexbody_fem::Dof::new(self.node, self.dof)
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub(crate) enum RawElement {
+    PlanarBeam {
+        id: usize,
+        nodes: [u64; 2],
+        material: String,
+        section: String,
+        #[serde(default)]
+        rotary_inertia: Option<bool>,
+    },
+    Beam {
+        id: usize,
+        nodes: [u64; 2],
+        material: String,
+        section: String,
+        #[serde(default)]
+        theory: BeamTheory,
+        #[serde(default)]
+        rotary_inertia: Option<bool>,
+        orientation: [f64; 3],
+    },
+    PointMass {
+        id: usize,
+        node: u64,
+        mass: f64,
+        #[serde(default)]
+        inertia: [f64; 6],
+    },
+    Spring {
+        id: usize,
+        dof: DofEntry,
+        #[serde(default)]
+        to: Option<DofEntry>,
+        stiffness: f64,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawBoundary {
+    pub node: u64,
+    pub dofs: Vec<DofKind>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCoupling {
+    pub name: String,
+    pub kind: CouplingKind,
+    /// The interface point: a new node with 6 DOFs.
+    pub point: u64,
+    /// Its position (m); default: the centroid of the set.
+    #[serde(default)]
+    pub position: Option<[f64; 3]>,
+    #[serde(default)]
+    pub set: Option<String>,
+    #[serde(default)]
+    pub nodes: Option<Vec<u64>>,
+    #[serde(default)]
+    pub weights: Option<Vec<f64>>,
+}
