@@ -143,8 +143,8 @@ impl StudyResult {
     /// force Q for beam models, else the connection forces (errors floored
     /// at 1e-17 for a logarithmic axis). Returns what the error is of, and
     /// the series.
-    pub fn convergence(&self, omega: f64) -> (&'static str, Vec<(String, Vec<(f64, f64)>)>) {
-        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    pub fn convergence(&self, omega: f64) -> (&'static str, Vec<Series>) {
+        let mut series: Vec<Series> = Vec::new();
         for c in self.cases.iter().filter(|c| c.row.omega == omega) {
             let err = c
                 .row
@@ -174,6 +174,9 @@ impl StudyResult {
             .map(|(_, r)| r)
     }
 }
+
+/// A named line of `(x, y)` points.
+pub type Series = (String, Vec<(f64, f64)>);
 
 /// An excitation frequency as a short text: at most six decimals, no
 /// trailing zeros (`122`, `12.5`).
