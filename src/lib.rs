@@ -26,6 +26,7 @@
 //! ```
 
 pub mod input;
+pub mod output;
 pub mod plot;
 pub mod report;
 pub mod scenario;

@@ -3,12 +3,13 @@
 //! Exit status 0 on success, 2 on any error (bad input, failed reduction,
 //! failed write), with the error on stderr.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Parser, Subcommand};
+use flexbody::output::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
-use flexbody::simulate::HistoryKind;
-use flexbody::{export, fem, input, plot, reduce as red, scenario, simulate, study};
+use flexbody::simulate::Vehicle;
+use flexbody::{export, input, plot, reduce as red, scenario, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -302,63 +303,10 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         })
     });
     let file = scenario::read_model_file(model)?;
-    let folder = dir.as_deref().map(output_folder).transpose()?;
+    let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file)?;
-    let mut plots = None;
-    if let Some(dir) = dir {
-        for omega in result.references.iter().map(|(o, _)| *o) {
-            let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-            for c in result.cases.iter().filter(|c| c.row.omega == omega) {
-                let err = c
-                    .row
-                    .err_vm
-                    .or(c.row.err_q)
-                    .unwrap_or(c.row.err_force)
-                    .max(1e-17);
-                let name = c.row.method.name().to_string();
-                match series.iter_mut().find(|(n, _)| *n == name) {
-                    Some((_, pts)) => pts.push((c.row.r as f64, err)),
-                    None => series.push((name, vec![(c.row.r as f64, err)])),
-                }
-            }
-            let what = if result.cases.iter().any(|c| c.row.err_vm.is_some()) {
-                "von Mises at the most stressed nodes"
-            } else {
-                "shear force Q"
-            };
-            plot::plot_convergence(
-                &dir.join(format!("convergence_omega{}.svg", fmt_omega(omega))),
-                &format!(
-                    "error of {what} against r, Omega = {} rad/s",
-                    fmt_omega(omega)
-                ),
-                &series,
-            )
-            .map_err(anyhow::Error::msg)?;
-        }
-        for case in result.cases.iter().filter(|c| !c.reduced.m.x.is_empty()) {
-            let reference = &result
-                .references
-                .iter()
-                .find(|(o, _)| *o == case.row.omega)
-                .context("reference for the case's frequency")?
-                .1;
-            let name = format!(
-                "{}_r{}_omega{}.svg",
-                case.row.method,
-                case.row.r,
-                fmt_omega(case.row.omega)
-            );
-            let title = format!(
-                "{}, r = {}, Omega = {} rad/s: reduced (dashed) over reference",
-                case.row.method,
-                case.row.r,
-                fmt_omega(case.row.omega)
-            );
-            plot::plot_case(&dir.join(&name), &title, reference, &case.reduced)
-                .map_err(anyhow::Error::msg)?;
-        }
-        plots = Some(dir);
+    if let Some(dir) = &dir {
+        plot::plot_study(dir, &result).map_err(anyhow::Error::msg)?;
     }
     if let Some(folder) = folder {
         folder.keep();
@@ -368,57 +316,16 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
         say!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
-    if let Some(t) = &result.title {
-        say!("{t}");
-    }
     say!(
-        "reference: full model, {} DOFs; errors: max |reduced - reference| / max |reference|",
-        file.model.dof_map().len()
+        "{}",
+        report::study_table(&result, file.model.dof_map().len())
     );
-    let rows = result.rows();
-    let beams = rows.first().is_some_and(|r| r.err_m.is_some());
-    let solids = rows.first().is_some_and(|r| r.err_vm.is_some());
-    let mut header = format!(
-        "{:<18} {:>4} {:>14} {:>10}",
-        "method", "r", "Omega (rad/s)", "err w"
-    );
-    if beams {
-        header += &format!(" {:>10} {:>10}", "err M", "err Q");
-    }
-    header += &format!(" {:>10}", "err F");
-    if solids {
-        header += &format!(" {:>10}", "err vm");
-    }
-    say!("{header}");
-    for row in &rows {
-        let mut line = format!(
-            "{:<18} {:>4} {:>14} {:>10.2e}",
-            row.method.name(),
-            row.r,
-            fmt_omega(row.omega),
-            row.err_w
-        );
-        if let (Some(m), Some(q)) = (row.err_m, row.err_q) {
-            line += &format!(" {m:>10.2e} {q:>10.2e}");
-        }
-        line += &format!(" {:>10.2e}", row.err_force);
-        if let Some(v) = row.err_vm {
-            line += &format!(" {v:>10.2e}");
-        }
-        say!("{line}");
-    }
-    if let Some(dir) = plots {
+    if let Some(dir) = dir {
         say!("plots: {}", dir.display());
     }
     Ok(())
 }
 
-fn fmt_omega(omega: f64) -> String {
-    let s = format!("{omega:.6}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
-/// Loads any input, printing a deck's ignored keywords on stderr.
 fn load(model: &Path, matrices: &MatrixArgs) -> Result<input::Component> {
     let c = input::load(model, &matrices.files())?;
     for w in &c.warnings {
@@ -593,27 +500,8 @@ fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
         peak_memory()
     );
     if factor {
-        use flexbody::linalg::{memory, ordering::Ordering, shift_invert::ShiftedPencil};
-        let start = std::time::Instant::now();
-        let (k, m) = (&c.sub.matrices.stiffness, &c.sub.matrices.mass);
-        let pencil = ShiftedPencil::analyze(k, m, Ordering::Auto)?;
-        let entries = pencil.factor_len();
-        let ordering = match pencil.ordering() {
-            Ordering::Amd => "AMD",
-            _ => "METIS nested dissection",
-        };
-        let flops = pencil.factor_flops();
-        let flops = if flops >= 1e9 {
-            format!("{:.1} GFlop", flops * 1e-9)
-        } else {
-            format!("{:.1} MFlop", flops * 1e-6)
-        };
-        say!(
-            "factor of K - sigma M ({ordering}): {entries} entries of L ({}), \
-             {flops} per factorisation; ordered and analysed in {:.3} s",
-            memory::bytes_text((entries * std::mem::size_of::<f64>()) as u64),
-            start.elapsed().as_secs_f64()
-        );
+        use flexbody::linalg::memory;
+        say!("{}", report::factor_size(&c.sub)?);
         if let Some(room) = memory::room() {
             say!(
                 "memory left: {} ({})",
@@ -632,259 +520,60 @@ fn peak_memory() -> String {
     })
 }
 
-/// The flexible body a simulation or frf runs: the reduced `body`, or the
-/// full FE model where there is none (`--full`).
-fn flexible<'a>(
-    sub: &'a fem::Substructure,
-    body: Option<&'a red::ReducedBody>,
-) -> flexbody::mbs::FlexibleBody<'a> {
-    match body {
-        Some(body) => flexbody::mbs::FlexibleBody::Reduced(body),
-        None => flexbody::mbs::FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        },
-    }
-}
-
-/// Makes the output folder `dir` before a long computation and checks
-/// that it takes files, so that a path that cannot be written fails at
-/// once. The folders it made are removed again, if still empty, unless the
-/// command keeps them ([`OutputFolder::keep`]) when it succeeds.
-fn output_folder(dir: &Path) -> Result<OutputFolder> {
-    let folder = OutputFolder {
-        made: dir
-            .ancestors()
-            .take_while(|d| !d.as_os_str().is_empty() && !d.exists())
-            .map(Path::to_path_buf)
-            .collect(),
-        keep: false,
-    };
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("{}: cannot create directory", dir.display()))?;
-    export::check_folder_writable(dir)?;
-    Ok(folder)
-}
-
-/// The folders [`output_folder`] made, deepest first.
-struct OutputFolder {
-    made: Vec<PathBuf>,
-    keep: bool,
-}
-
-impl OutputFolder {
-    fn keep(mut self) {
-        self.keep = true;
-    }
-}
-
-impl Drop for OutputFolder {
-    fn drop(&mut self) {
-        if !self.keep {
-            for dir in &self.made {
-                // Fails, and keeps the folder, where files were written.
-                let _ = std::fs::remove_dir(dir);
-            }
-        }
-    }
-}
-
-/// The model file, its substructure and the body a simulation uses.
-fn vehicle(model: &Path) -> Result<(scenario::ModelFile, fem::Substructure)> {
-    let file = scenario::read_model_file(model)?;
-    let sub = fem::Substructure::from_model(&file.model)?;
-    Ok((file, sub))
-}
-
 fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
-    let (file, sub) = vehicle(model)?;
-    let spec = file
-        .simulation
-        .clone()
-        .with_context(|| format!("{}: no [simulation] table", model.display()))?;
-    let folder = output_folder(out)?;
-    // --full runs the FE model itself: nothing to reduce.
-    let body = if full {
-        None
-    } else {
-        Some(simulate::simulation_body(&file, &sub, &spec)?)
-    };
-    let flexible = flexible(&sub, body.as_ref());
-    let h = simulate::run_simulation(&file, flexible)?;
-    simulate::write_csv(&out.join("histories.csv"), "time (s)", &h.times, &h.columns)?;
+    let v = Vehicle::read(model)?;
+    let folder = OutputFolder::make(out)?;
+    let v = if full { v } else { v.reduced()? };
+    let h = simulate::run_simulation(&v.file, v.flexible())?;
+    let csv = out.join("histories.csv");
+    simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
     folder.keep();
-    let forces = h.of_kind(HistoryKind::Connection);
-    let rigid = h.of_kind(HistoryKind::RigidBody);
-    let moments = h.of_kind(HistoryKind::EndMoment);
-    let shears = h.of_kind(HistoryKind::EndShear);
-    let label = if full {
-        "full FE model"
-    } else {
-        "reduced body"
-    };
-    plot::plot_panels(
-        &out.join("connections.svg"),
-        &format!("connection forces ({label})"),
-        "t (s)",
-        &h.times,
-        &[plot::Panel {
-            title: "connection forces",
-            y_label: "F (N)",
-            series: forces,
-        }],
-    )
-    .map_err(anyhow::Error::msg)?;
-    let mut panels = vec![];
-    if !rigid.is_empty() {
-        panels.push(plot::Panel {
-            title: "rigid bodies",
-            y_label: "m, rad",
-            series: rigid,
-        });
-    }
-    if !moments.is_empty() {
-        panels.push(plot::Panel {
-            title: "bending moment at element ends (eq. 25)",
-            y_label: "My (N m)",
-            series: moments,
-        });
-        panels.push(plot::Panel {
-            title: "shear force at element ends (eq. 25)",
-            y_label: "Qz (N)",
-            series: shears,
-        });
-    }
-    if !panels.is_empty() {
-        plot::plot_panels(
-            &out.join("histories.svg"),
-            &format!("histories ({label})"),
-            "t (s)",
-            &h.times,
-            &panels,
-        )
-        .map_err(anyhow::Error::msg)?;
-    }
+    plot::plot_histories(out, &h, v.label()).map_err(anyhow::Error::msg)?;
     say!(
-        "{} steps to t = {} s ({label}); wrote {}",
+        "{} steps to t = {} s ({}); wrote {}",
         h.times.len() - 1,
         h.times.last().copied().unwrap_or(0.0),
-        out.join("histories.csv").display()
+        v.label(),
+        csv.display()
     );
     say!("{:<40} {:>14} {:>14}", "history", "min", "max");
-    for (name, v) in &h.columns {
-        let (lo, hi) = v
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(*x), b.max(*x))
-            });
+    for (name, lo, hi) in h.ranges() {
         say!("{name:<40} {lo:>14.5e} {hi:>14.5e}");
     }
     Ok(())
 }
 
 fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
-    let (file, sub) = vehicle(model)?;
-    let spec = file.simulation.clone().with_context(|| {
-        format!(
-            "{}: the [simulation] table says how to reduce the body",
-            model.display()
-        )
-    })?;
-    let folder = output_folder(out)?;
-    // --full runs the FE model itself: nothing to reduce.
-    let body = if full {
-        None
-    } else {
-        Some(simulate::simulation_body(&file, &sub, &spec)?)
-    };
-    let flexible = flexible(&sub, body.as_ref());
-    let t = simulate::run_frf(&file, flexible)?;
-    let mut columns = Vec::new();
-    for (name, mag, phase) in &t.outputs {
-        columns.push((format!("|{name}|"), mag.clone()));
-        columns.push((format!("phase {name} (rad)"), phase.clone()));
-    }
-    simulate::write_csv(&out.join("frf.csv"), "f (Hz)", &t.frequencies_hz, &columns)?;
+    let v = Vehicle::read(model)?;
+    let folder = OutputFolder::make(out)?;
+    let v = if full { v } else { v.reduced()? };
+    let t = simulate::run_frf(&v.file, v.flexible())?;
+    let csv = out.join("frf.csv");
+    simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
     folder.keep();
-    let mags: Vec<(&str, &[f64])> = t
-        .outputs
-        .iter()
-        .map(|(n, m, _)| (n.as_str(), m.as_slice()))
-        .collect();
-    let phases: Vec<(&str, &[f64])> = t
-        .outputs
-        .iter()
-        .map(|(n, _, p)| (n.as_str(), p.as_slice()))
-        .collect();
-    let split = file.connections.len();
-    plot::plot_panels(
-        &out.join("frf_connections.svg"),
-        "transfer functions: track amplitude to connection forces",
-        "f (Hz)",
-        &t.frequencies_hz,
-        &[
-            plot::Panel {
-                title: "magnitude",
-                y_label: "N per m",
-                series: mags[..split].to_vec(),
-            },
-            plot::Panel {
-                title: "phase",
-                y_label: "rad",
-                series: phases[..split].to_vec(),
-            },
-        ],
-    )
-    .map_err(anyhow::Error::msg)?;
-    if mags.len() > split {
-        plot::plot_panels(
-            &out.join("frf_sections.svg"),
-            "transfer functions: track amplitude to section forces (eq. 25)",
-            "f (Hz)",
-            &t.frequencies_hz,
-            &[
-                plot::Panel {
-                    title: "magnitude",
-                    y_label: "per m",
-                    series: mags[split..].to_vec(),
-                },
-                plot::Panel {
-                    title: "phase",
-                    y_label: "rad",
-                    series: phases[split..].to_vec(),
-                },
-            ],
-        )
-        .map_err(anyhow::Error::msg)?;
-    }
+    plot::plot_transfer(out, &t, v.file.connections.len()).map_err(anyhow::Error::msg)?;
     say!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
-    let modes = match simulate::coupled_modes(&file, flexible) {
-        Err(simulate::SimulationError::Mbs(
-            e @ (flexbody::mbs::MbsError::TooLargeForDense { .. }
-            | flexbody::mbs::MbsError::UnresolvedModes { .. }),
-        )) => {
-            say!("  not computed: {e}");
-            say!("wrote {}", out.join("frf.csv").display());
-            return Ok(());
+    match simulate::coupled_modes_if_dense(&v.file, v.flexible())? {
+        Err(why) => say!("  not computed: {why}"),
+        Ok(modes) => {
+            say!(
+                "{:>5} {:>14} {:>14} {:>10}",
+                "mode",
+                "natural (Hz)",
+                "damped (Hz)",
+                "zeta"
+            );
+            for (k, m) in modes.iter().enumerate() {
+                say!(
+                    "{:>5} {:>14.4} {:>14.4} {:>10.4}",
+                    k + 1,
+                    m.natural_hz,
+                    m.damped_hz,
+                    m.damping_ratio
+                );
+            }
         }
-        other => other?,
-    };
-    say!(
-        "{:>5} {:>14} {:>14} {:>10}",
-        "mode",
-        "natural (Hz)",
-        "damped (Hz)",
-        "zeta"
-    );
-    for (k, m) in modes.iter().enumerate() {
-        say!(
-            "{:>5} {:>14.4} {:>14.4} {:>10.4}",
-            k + 1,
-            m.natural_hz,
-            m.damped_hz,
-            m.damping_ratio
-        );
     }
-    say!("wrote {}", out.join("frf.csv").display());
+    say!("wrote {}", csv.display());
     Ok(())
 }

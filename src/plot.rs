@@ -1,8 +1,10 @@
-//! SVG plots of a study case, like the report's figures 6-10: displacement
-//! w(x), bending moment M(x) and shear force Q(x), reduced over reference.
-//! Real parts are drawn (the in-phase response; the example's excitation is
-//! real). SVG needs no fonts.
+//! SVG plots: of a study case, like the report's figures 6-10
+//! (displacement w(x), bending moment M(x) and shear force Q(x), reduced
+//! over reference; real parts, the in-phase response), of a study's
+//! convergence, of histories in time and of transfer functions. SVG needs no
+//! fonts.
 
+use crate::simulate::{Histories, HistoryKind, Transfer};
 use crate::study::{fmt_omega, BeamResponse, Field, StudyResult};
 use plotters::prelude::*;
 use std::path::Path;
@@ -309,4 +311,110 @@ pub fn plot_convergence(
         format!("{}: cannot draw: {e}", path.display())
     })?;
     std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+/// The plots of a run in time in `dir`: `connections.svg` (connection
+/// forces) and, where there are such histories, `histories.svg` (rigid
+/// bodies, bending moments and shear forces at element ends). `label`
+/// names what ran (reduced body or full FE model).
+pub fn plot_histories(dir: &Path, h: &Histories, label: &str) -> Result<(), String> {
+    plot_panels(
+        &dir.join("connections.svg"),
+        &format!("connection forces ({label})"),
+        "t (s)",
+        &h.times,
+        &[Panel {
+            title: "connection forces",
+            y_label: "F (N)",
+            series: h.of_kind(HistoryKind::Connection),
+        }],
+    )?;
+    let rigid = h.of_kind(HistoryKind::RigidBody);
+    let moments = h.of_kind(HistoryKind::EndMoment);
+    let mut panels = vec![];
+    if !rigid.is_empty() {
+        panels.push(Panel {
+            title: "rigid bodies",
+            y_label: "m, rad",
+            series: rigid,
+        });
+    }
+    if !moments.is_empty() {
+        panels.push(Panel {
+            title: "bending moment at element ends (eq. 25)",
+            y_label: "My (N m)",
+            series: moments,
+        });
+        panels.push(Panel {
+            title: "shear force at element ends (eq. 25)",
+            y_label: "Qz (N)",
+            series: h.of_kind(HistoryKind::EndShear),
+        });
+    }
+    if panels.is_empty() {
+        return Ok(());
+    }
+    plot_panels(
+        &dir.join("histories.svg"),
+        &format!("histories ({label})"),
+        "t (s)",
+        &h.times,
+        &panels,
+    )
+}
+
+/// The plots of a frequency response in `dir`: magnitude and phase of the
+/// transfer functions to the first `connections` outputs (connection
+/// forces, `frf_connections.svg`) and to the others (section forces,
+/// `frf_sections.svg`, where there are any).
+pub fn plot_transfer(dir: &Path, t: &Transfer, connections: usize) -> Result<(), String> {
+    let mags: Vec<(&str, &[f64])> = t
+        .outputs
+        .iter()
+        .map(|(n, m, _)| (n.as_str(), m.as_slice()))
+        .collect();
+    let phases: Vec<(&str, &[f64])> = t
+        .outputs
+        .iter()
+        .map(|(n, _, p)| (n.as_str(), p.as_slice()))
+        .collect();
+    let split = connections.min(mags.len());
+    let parts = [
+        (
+            "frf_connections.svg",
+            "transfer functions: track amplitude to connection forces",
+            "N per m",
+            0..split,
+        ),
+        (
+            "frf_sections.svg",
+            "transfer functions: track amplitude to section forces (eq. 25)",
+            "per m",
+            split..mags.len(),
+        ),
+    ];
+    for (k, (file, title, unit, range)) in parts.into_iter().enumerate() {
+        if k > 0 && range.is_empty() {
+            continue;
+        }
+        plot_panels(
+            &dir.join(file),
+            title,
+            "f (Hz)",
+            &t.frequencies_hz,
+            &[
+                Panel {
+                    title: "magnitude",
+                    y_label: unit,
+                    series: mags[range.clone()].to_vec(),
+                },
+                Panel {
+                    title: "phase",
+                    y_label: "rad",
+                    series: phases[range].to_vec(),
+                },
+            ],
+        )?;
+    }
+    Ok(())
 }

@@ -9,6 +9,7 @@ use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
 use crate::reduce::{reduce, ReduceError, ReducedBody};
 use crate::scenario::{BodySource, ModelFile, SimulationSpec};
+use std::path::Path;
 
 /// Named histories sampled at common times (SI units).
 #[derive(Clone, Debug, Default)]
@@ -59,6 +60,79 @@ impl Histories {
             .find(|(n, _)| n == name)
             .map(|(_, v)| v.as_slice())
     }
+
+    /// The smallest and largest value of each column, by name.
+    pub fn ranges(&self) -> Vec<(&str, f64, f64)> {
+        self.columns
+            .iter()
+            .map(|(name, v)| {
+                let (lo, hi) = v
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                        (a.min(*x), b.max(*x))
+                    });
+                (name.as_str(), lo, hi)
+            })
+            .collect()
+    }
+}
+
+/// A vehicle model ready to run: its model file, the assembled FE model,
+/// and the reduced body (none when the full FE model runs, the reference).
+pub struct Vehicle {
+    pub file: ModelFile,
+    pub sub: Substructure,
+    pub body: Option<ReducedBody>,
+}
+
+impl Vehicle {
+    /// Reads the model file at `path` (it must have a `[simulation]`
+    /// table) and assembles its model; the full FE model runs until
+    /// [`Vehicle::reduced`].
+    pub fn read(path: &Path) -> Result<Self, SimulationError> {
+        let file = crate::scenario::read_model_file(path)?;
+        if file.simulation.is_none() {
+            return Err(SimulationError::NoSimulation(path.display().to_string()));
+        }
+        let sub = Substructure::from_model(&file.model).map_err(SimulationError::Model)?;
+        Ok(Self {
+            file,
+            sub,
+            body: None,
+        })
+    }
+
+    /// The vehicle with the flexible body its `[simulation]` table names:
+    /// reduced as it says, or read from a reduced-body file.
+    pub fn reduced(mut self) -> Result<Self, SimulationError> {
+        let spec =
+            self.file.simulation.as_ref().ok_or_else(|| {
+                SimulationError::NoSimulation(self.file.path.display().to_string())
+            })?;
+        self.body = Some(simulation_body(&self.file, &self.sub, spec)?);
+        Ok(self)
+    }
+
+    /// The flexible body the MBS runs: the reduced body, or the full FE
+    /// model where there is none.
+    pub fn flexible(&self) -> FlexibleBody<'_> {
+        match &self.body {
+            Some(body) => FlexibleBody::Reduced(body),
+            None => FlexibleBody::Full {
+                dof_map: &self.sub.dof_map,
+                matrices: &self.sub.matrices,
+            },
+        }
+    }
+
+    /// What runs, for titles: "reduced body" or "full FE model".
+    pub fn label(&self) -> &'static str {
+        if self.body.is_some() {
+            "reduced body"
+        } else {
+            "full FE model"
+        }
+    }
 }
 
 /// Errors of a simulation or FRF, naming the stage.
@@ -68,6 +142,10 @@ pub enum SimulationError {
     NoSimulation(String),
     #[error("{0}: the model file has no [frf] table")]
     NoFrf(String),
+    #[error(transparent)]
+    Input(#[from] crate::io::InputError),
+    #[error(transparent)]
+    Model(FemError),
     #[error("reducing the flexible body: {0}")]
     Reduce(#[from] ReduceError),
     #[error("reading the reduced body: {0}")]
@@ -241,6 +319,32 @@ pub struct Transfer {
     pub frequencies_hz: Vec<f64>,
     /// `(name, magnitude, phase)` per output; magnitude per unit track amplitude.
     pub outputs: Vec<(String, Vec<f64>, Vec<f64>)>,
+}
+
+impl Transfer {
+    /// The CSV columns: magnitude and phase of each output.
+    pub fn columns(&self) -> Vec<(String, Vec<f64>)> {
+        let mut columns = Vec::new();
+        for (name, mag, phase) in &self.outputs {
+            columns.push((format!("|{name}|"), mag.clone()));
+            columns.push((format!("phase {name} (rad)"), phase.clone()));
+        }
+        columns
+    }
+}
+
+/// The damped modes of a coupled system, or why they were not computed
+/// (too large for the dense solver, or not all resolved).
+pub fn coupled_modes_if_dense(
+    file: &ModelFile,
+    body: FlexibleBody<'_>,
+) -> Result<Result<Vec<DampedMode>, MbsError>, SimulationError> {
+    match coupled_modes(file, body) {
+        Err(SimulationError::Mbs(
+            e @ (MbsError::TooLargeForDense { .. } | MbsError::UnresolvedModes { .. }),
+        )) => Ok(Err(e)),
+        other => other.map(Ok),
+    }
 }
 
 /// The `[frf]` sweep of `file` with `body`.
