@@ -1,0 +1,196 @@
+//! Keywords ignored, unknown and refused; bad decks naming line and
+//! culprit; the Abaqus/CAE layout; boundary types and Fortran numbers;
+//! garbled decks.
+
+use super::*;
+
+#[test]
+fn ignored_unknown_and_refused_keywords() {
+    let text = BEAM.to_string()
+        + "*ORIENTATION, NAME=OR1\n1., 0., 0., 0., 1., 0.\n*FOO BAR\n1, 2\n\
+           *STEP, PERTURBATION\n*STATIC\n*CLOAD\n3, 3, 1000.\n*EL PRINT, ELSET=BEAM\nS\n*END STEP\n\
+           *STEP\n*FREQUENCY\n5\n*END STEP\n";
+    let deck = parse(&text).unwrap();
+    let step = line_of(&text, "*STEP, PERTURBATION");
+    assert_eq!(
+        deck.warnings,
+        vec![
+            format!("*ORIENTATION (line {})", line_of(&text, "*ORIENTATION")),
+            format!(
+                "*FOO BAR (line {}): unknown keyword, skipped",
+                line_of(&text, "*FOO")
+            ),
+            format!("*STEP (line {step})"),
+            format!("*STATIC (line {})", step + 1),
+            format!("*CLOAD (line {})", step + 2),
+            format!("*EL PRINT (line {})", step + 4),
+            format!("*END STEP (line {})", step + 6),
+            format!("*FREQUENCY (line {})", step + 8),
+        ]
+    );
+    for (keyword, what) in [
+        ("*EQUATION\n2\n3, 3, 1., 2, 3, -1.\n", "stiffness"),
+        ("*RIGID BODY, NSET=ALL, REF NODE=1\n", "stiffness"),
+        ("*DISTRIBUTING COUPLING, ELSET=E\n", "stiffness"),
+        ("*TIE, NAME=T\nA, B\n", "stiffness"),
+        (
+            "*SHELL SECTION, ELSET=BEAM, MATERIAL=STEEL\n0.01\n",
+            "stiffness",
+        ),
+        ("*MPC\nBEAM, 1, 2\n", "stiffness"),
+    ] {
+        let text = BEAM.to_string() + keyword;
+        let first = keyword.lines().next().unwrap();
+        assert_error(&text, first, &["is not supported", what]);
+    }
+}
+
+#[test]
+fn bad_decks_name_the_line_and_the_culprit() {
+    // A node referenced by an element but never defined.
+    let text = BEAM.replace("2, 2, 3", "2, 2, 99");
+    assert_error(&text, "2, 2, 99", &["element 2", "node 99"]);
+    // Wrong node count for the type.
+    let text = BRICKS.replace("1, 1, 2, 3, 4, 5, 6, 7, 8", "1, 1, 2, 3, 4, 5, 6, 7");
+    assert_error(
+        &text,
+        "1, 1, 2, 3, 4, 5, 6, 7",
+        &["element 1", "7 nodes", "C3D8 needs 8"],
+    );
+    let text = BEAM.replace("1, 1, 2\n", "1, 1, 2, 3\n");
+    assert_error(
+        &text,
+        "1, 1, 2, 3",
+        &["element 1", "3 nodes", "B31 needs 2"],
+    );
+    // A section naming a material that does not exist.
+    let text = BRICKS.replace("MATERIAL=STEEL", "MATERIAL=ALU");
+    assert_error(&text, "*SOLID SECTION", &["material 'ALU'", "not defined"]);
+    // A solid element without a section.
+    let text = BRICKS.replace("lower, 2", "lower");
+    assert_error(
+        &text,
+        "2, 5, 6, 7, 8",
+        &["element 2", "C3D8", "*SOLID SECTION"],
+    );
+    // Duplicate ids.
+    let text = BRICKS.replace("3, 1, 1, 0", "2, 1, 1, 0");
+    assert_error(
+        &text,
+        "2, 1, 1, 0",
+        &["node 2 is defined twice", "first on line 6"],
+    );
+    let text = BRICKS.replace("2, 5, 6, 7, 8", "1, 5, 6, 7, 8");
+    let first = format!(
+        "first on line {}",
+        line_of(BRICKS, "1, 1, 2, 3, 4, 5, 6, 7, 8")
+    );
+    assert_error(
+        &text,
+        "1, 5, 6, 7, 8",
+        &["element 1 is defined twice", &first],
+    );
+    // Unknown and unsupported element types.
+    let text = BRICKS.replace("*Element, type=c3d8", "*ELEMENT, TYPE=S4");
+    assert_error(&text, "TYPE=S4", &["element type S4 is not supported"]);
+    let text = BRICKS.replace("*Element, type=c3d8", "*ELEMENT, TYPE=C3D8I");
+    assert_error(&text, "TYPE=C3D8I", &["C3D8I", "incompatible modes"]);
+    // A missing include file.
+    let text = BRICKS.replace("** nodes", "*INCLUDE, INPUT=no_such_file.inp");
+    assert_error(&text, "*INCLUDE", &["no_such_file.inp", "cannot read"]);
+    // A material without density, used by a section.
+    let text = BRICKS.replace("*DENSITY\n7850.\n", "");
+    assert_error(&text, "*MATERIAL", &["material 'STEEL'", "*DENSITY"]);
+    // Anisotropic elasticity.
+    let text = BRICKS.replace("*ELASTIC\n", "*ELASTIC, TYPE=ORTHO\n");
+    assert_error(&text, "*ELASTIC", &["TYPE=ORTHO", "isotropic"]);
+    // A prescribed displacement.
+    let text = BRICKS.replace("BASE, 1, 6", "BASE, 3, 3, 0.001");
+    assert_error(&text, "BASE, 3, 3", &["prescribed displacement"]);
+    // A boundary condition or a set on an undefined node.
+    let text = BRICKS.replace("BASE, 1, 6", "13, 1, 3");
+    assert_error(&text, "13, 1, 3", &["node 13"]);
+    let text = BRICKS.replace("9, 10, 11, 12,", "9, 10, 11, 12, 77");
+    assert_error(&text, "9, 10, 11, 12, 77", &["node set 'TOP'", "node 77"]);
+    // A section on a set that does not exist; a set name never defined.
+    let text = BRICKS.replace("ELSET=ALL, MATERIAL", "ELSET=NONE, MATERIAL");
+    assert_error(&text, "*SOLID SECTION", &["element set 'NONE'"]);
+    let text = BRICKS.replace("BASE, top", "BASE, side");
+    assert_error(&text, "BASE, side", &["node set 'SIDE' is not defined"]);
+    // Numbers that are not numbers.
+    let text = BEAM.replace("2, 0.5, 0, 0", "2, 0.5, zero, 0");
+    assert_error(&text, "2, 0.5, zero", &["node 2", "coordinate 2", "'zero'"]);
+    let text = BEAM.replace("2.1E11, 0.3", "2.1E11, 0.6");
+    assert_error(&text, "2.1E11, 0.6", &["material 'STEEL'", "Poisson"]);
+    // A point mass on a node no element gives a DOF.
+    let text = BEAM.replace("3, 1.0, 0, 0", "3, 1.0, 0, 0\n4, 2.0, 0, 0")
+        + "*ELEMENT, TYPE=MASS, ELSET=M\n20, 4\n*MASS, ELSET=M\n1.0\n";
+    assert_error(&text, "20, 4", &["point mass on node 4"]);
+    // No element at all.
+    let e = parse("*NODE\n1, 0, 0, 0\n").unwrap_err();
+    assert!(e.to_string().contains("no DOFs"), "{e}");
+}
+
+/// The layout Abaqus/CAE writes: one part, one instance, mixed case,
+/// continued keyword lines, a `,` data line under *Solid Section.
+#[test]
+fn abaqus_cae_layout() {
+    let nodes: String = BRICKS
+        .lines()
+        .skip(4)
+        .take(12)
+        .map(|l| format!("      {l}\n"))
+        .collect();
+    let text = format!(
+        "*Heading\n*Part, name=Part-1\n*Node\n{nodes}\
+         *Element, type=C3D8\n1, 1, 2, 3, 4, 5, 6, 7, 8\n2, 5, 6, 7, 8, 9, 10, 11, 12\n\
+         *Elset, elset=Set-1, generate\n 1, 2, 1\n\
+         *Solid Section, elset=Set-1,\n material=Material-1\n,\n*End Part\n\
+         *Assembly, name=Assembly\n*Instance, name=Part-1-1, part=Part-1\n*End Instance\n\
+         *Nset, nset=Set-2, instance=Part-1-1\n 1, 2, 3, 4\n*End Assembly\n\
+         *Material, name=Material-1\n*Density\n 7850.,\n*Elastic\n 2.1e+11, 0.3\n\
+         *Boundary\nSet-2, ENCASTRE\n"
+    );
+    let deck = parse(&text).unwrap();
+    assert_eq!(deck.model.elements().len(), 2);
+    assert_eq!(deck.model.dof_map().len(), 24);
+    assert_eq!(deck.element_sets["SET-1"], vec![1, 2]);
+    assert_eq!(deck.warnings.len(), 8, "{:?}", deck.warnings);
+}
+
+#[test]
+fn boundary_types_and_fortran_numbers() {
+    let text = BEAM
+        .replace("1, 1, 6", "1, ENCASTRE\n3, ZSYMM")
+        .replace("2.1E11, 0.3", "2.1D11, .3");
+    let deck = parse(&text).unwrap();
+    let fixed: Vec<Dof> = deck.model.fixed_dofs().copied().collect();
+    let mut expected: Vec<Dof> = DofKind::ALL.iter().map(|k| Dof::new(1, *k)).collect();
+    expected.extend([DofKind::Uz, DofKind::Rx, DofKind::Ry].map(|k| Dof::new(3, k)));
+    assert_eq!(fixed, expected);
+    let Element::Beam(b) = &deck.model.elements()[0] else {
+        panic!("not a beam")
+    };
+    assert_eq!(b.properties.material.youngs_modulus, 2.1e11);
+}
+
+/// Truncated and garbled decks give errors, never panics.
+#[test]
+fn no_panic_on_garbled_decks() {
+    let springs = BEAM.to_string()
+        + "*ELEMENT, TYPE=MASS, ELSET=TIP\n10, 3\n*MASS, ELSET=TIP\n12.5\n\
+           *ELEMENT, TYPE=SPRING2, ELSET=S2\n12, 2, 3\n*SPRING, ELSET=S2\n2, 6\n2.0e6\n\
+           *NSET, NSET=G, GENERATE\n1, 3\n";
+    for text in [BRICKS, springs.as_str()] {
+        let chars: Vec<char> = text.chars().collect();
+        for i in 0..chars.len() {
+            let truncated: String = chars[..i].iter().collect();
+            let _ = parse(&truncated);
+            for c in [',', '*', '\n', 'x', '-', '0', '9', '='] {
+                let mut garbled = chars.clone();
+                garbled[i] = c;
+                let _ = parse(&garbled.iter().collect::<String>());
+            }
+        }
+    }
+}
