@@ -6,6 +6,8 @@
 
 use crate::simulate::{Histories, HistoryKind, Transfer};
 use crate::study::{fmt_omega, BeamResponse, Field, StudyResult};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -46,16 +48,84 @@ pub fn plot_case(
     reference: &BeamResponse,
     reduced: &BeamResponse,
 ) -> Result<(), String> {
-    let tmp = path.with_extension("svg.tmp");
-    draw(&tmp, title, reference, reduced)
-        .map_err(|e| format!("{}: cannot draw: {e}", path.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{}: cannot write: {e}", path.display())
-    })
+    write_svg(path, |tmp| draw(tmp, title, reference, reduced))
 }
 
 type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Draws into a temporary file beside `path` and renames it into place, so
+/// that no half-drawn plot is left behind.
+fn write_svg(path: &Path, draw: impl FnOnce(&Path) -> DrawResult) -> Result<(), String> {
+    let tmp = path.with_extension("svg.tmp");
+    let done = draw(&tmp)
+        .map_err(|e| format!("{}: cannot draw: {e}", path.display()))
+        .and_then(|()| {
+            std::fs::rename(&tmp, path)
+                .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+        });
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    done
+}
+
+/// The smallest and largest value (infinite bounds when there are none).
+fn bounds<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) {
+    values
+        .into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        })
+}
+
+type LinearChart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A chart on `area` with linear axes over `x` and over `y` padded by 8 %
+/// (`[-1, 1]` where `y` has no finite bounds), its mesh labelled.
+fn linear_chart<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: &str,
+    (x0, x1): (f64, f64),
+    (mut y0, mut y1): (f64, f64),
+    (x_label, y_label): (&str, &str),
+) -> Result<LinearChart<'a, 'b>, Box<dyn std::error::Error>> {
+    if !(y0.is_finite() && y1.is_finite()) {
+        (y0, y1) = (-1.0, 1.0);
+    }
+    let pad = ((y1 - y0) * 0.08)
+        .max(y1.abs().max(y0.abs()) * 1e-3)
+        .max(1e-12);
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(35)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad)..(y1 + pad))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .y_label_formatter(&tick_label)
+        .draw()?;
+    Ok(chart)
+}
+
+/// The legend of a chart's labelled series, upper right.
+fn draw_legend<'a, DB, CT>(chart: &mut ChartContext<'a, DB, CT>) -> DrawResult
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
+    Ok(())
+}
 
 fn draw(path: &Path, title: &str, reference: &BeamResponse, reduced: &BeamResponse) -> DrawResult {
     let root = SVGBackend::new(path, (900, 1000)).into_drawing_area();
@@ -81,32 +151,13 @@ fn panel(
     reference: &Field,
     reduced: &Field,
 ) -> DrawResult {
-    let xs = reference.x.iter().chain(&reduced.x);
-    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(*x), b.max(*x))
-    });
-    let ys = reference.re.iter().chain(&reduced.re);
-    let (mut y0, mut y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
-        (a.min(*y), b.max(*y))
-    });
-    if !(y0.is_finite() && y1.is_finite()) {
-        (y0, y1) = (-1.0, 1.0);
-    }
-    let pad = ((y1 - y0) * 0.08)
-        .max(y1.abs().max(y0.abs()) * 1e-3)
-        .max(1e-12);
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, ("sans-serif", 18))
-        .margin(12)
-        .x_label_area_size(35)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad)..(y1 + pad))?;
-    chart
-        .configure_mesh()
-        .x_desc("x (m)")
-        .y_desc(unit)
-        .y_label_formatter(&tick_label)
-        .draw()?;
+    let mut chart = linear_chart(
+        area,
+        caption,
+        bounds(reference.x.iter().chain(&reduced.x)),
+        bounds(reference.re.iter().chain(&reduced.re)),
+        ("x (m)", unit),
+    )?;
     chart
         .draw_series(LineSeries::new(
             reference
@@ -127,13 +178,7 @@ fn panel(
         ))?
         .label("reduced")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    Ok(())
+    draw_legend(&mut chart)
 }
 
 /// Tick labels: plain decimals for moderate magnitudes, else scientific.
@@ -172,10 +217,9 @@ pub fn plot_panels(
     x: &[f64],
     panels: &[Panel<'_>],
 ) -> Result<(), String> {
-    let tmp = path.with_extension("svg.tmp");
-    let result = (|| -> DrawResult {
+    write_svg(path, |tmp| {
         let height = 60 + 330 * panels.len().max(1) as u32;
-        let root = SVGBackend::new(&tmp, (1000, height)).into_drawing_area();
+        let root = SVGBackend::new(tmp, (1000, height)).into_drawing_area();
         root.fill(&WHITE)?;
         let root = root.titled(title, ("sans-serif", 22))?;
         for (area, p) in root
@@ -183,37 +227,14 @@ pub fn plot_panels(
             .iter()
             .zip(panels)
         {
-            let (x0, x1) = x
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(*v), b.max(*v))
-                });
-            let (mut y0, mut y1) = p
-                .series
-                .iter()
-                .flat_map(|(_, v)| v.iter())
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(*v), b.max(*v))
-                });
-            if !(y0.is_finite() && y1.is_finite()) {
-                (y0, y1) = (-1.0, 1.0);
-            }
-            let pad = ((y1 - y0) * 0.08)
-                .max(y1.abs().max(y0.abs()) * 1e-3)
-                .max(1e-12);
-            let mut chart = ChartBuilder::on(area)
-                .caption(p.title, ("sans-serif", 18))
-                .margin(12)
-                .x_label_area_size(35)
-                .y_label_area_size(80)
-                .build_cartesian_2d(x0..x1.max(x0 + 1e-9), (y0 - pad)..(y1 + pad))?;
-            chart
-                .configure_mesh()
-                .x_desc(x_label)
-                .y_desc(p.y_label)
-                .y_label_formatter(&tick_label)
-                .draw()?;
+            let ys = p.series.iter().flat_map(|(_, v)| v.iter());
+            let mut chart = linear_chart(
+                area,
+                p.title,
+                bounds(x),
+                bounds(ys.filter(|v| v.is_finite())),
+                (x_label, p.y_label),
+            )?;
             for (k, (name, values)) in p.series.iter().enumerate() {
                 let color = PALETTE[k % PALETTE.len()];
                 chart
@@ -226,21 +247,11 @@ pub fn plot_panels(
                         PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                     });
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
+            draw_legend(&mut chart)?;
         }
         root.present()?;
         Ok(())
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{}: cannot draw: {e}", path.display())
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    })
 }
 
 /// Error against r, one line per method, logarithmic error axis.
@@ -249,9 +260,8 @@ pub fn plot_convergence(
     title: &str,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Result<(), String> {
-    let tmp = path.with_extension("svg.tmp");
-    let result = (|| -> DrawResult {
-        let root = SVGBackend::new(&tmp, (900, 600)).into_drawing_area();
+    write_svg(path, |tmp| {
+        let root = SVGBackend::new(tmp, (900, 600)).into_drawing_area();
         root.fill(&WHITE)?;
         let pts = series.iter().flat_map(|(_, p)| p.iter());
         let (r0, r1, e0, e1) = pts.fold(
@@ -297,20 +307,10 @@ pub fn plot_convergence(
                 });
             chart.draw_series(pts.iter().map(|p| Circle::new(*p, 4, color.filled())))?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()?;
+        draw_legend(&mut chart)?;
         root.present()?;
         Ok(())
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("{}: cannot draw: {e}", path.display())
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+    })
 }
 
 /// The plots of a run in time in `dir`: `connections.svg` (connection

@@ -70,26 +70,9 @@ struct Mesh {
     mid: HashMap<(usize, usize), usize>,
 }
 
-/// Corners of a cell as bit patterns (x: bit 0, y: bit 1, z: bit 2) in the
-/// Abaqus order of the 8-node hexahedron.
-const HEX_CORNERS: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
-/// Mid-edge nodes 9-20 of the 20-node hexahedron: corners (0-based) joined.
-const HEX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (1, 2),
-    (2, 3),
-    (3, 0),
-    (4, 5),
-    (5, 6),
-    (6, 7),
-    (7, 4),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
-/// Mid-edge nodes 5-10 of the 10-node tetrahedron.
-const TET_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+use flexbody_fem::element::solid::topology::{
+    HEX20_EDGES as HEX_EDGES, HEX_CORNERS, TET10_EDGES as TET_EDGES,
+};
 
 impl Mesh {
     /// The mesh; interior grid points move at random by up to `distortion`

@@ -42,6 +42,7 @@
 
 mod quadrature;
 mod shape;
+pub mod topology;
 
 use super::ElementMatrices;
 use crate::dof::{Dof, DofKind};

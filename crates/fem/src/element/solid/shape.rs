@@ -177,8 +177,7 @@ fn tet10(xi: [f64; 3], n: &mut [f64; MAX_NODES], dn: &mut [[f64; 3]; MAX_NODES])
         let s = 4.0 * l[i] - 1.0;
         dn[i] = DL[i].map(|d| s * d);
     }
-    const EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
-    for (k, &(i, j)) in EDGES.iter().enumerate() {
+    for (k, &(i, j)) in super::topology::TET10_EDGES.iter().enumerate() {
         n[4 + k] = 4.0 * l[i] * l[j];
         dn[4 + k] = [0, 1, 2].map(|m| 4.0 * (DL[i][m] * l[j] + l[i] * DL[j][m]));
     }

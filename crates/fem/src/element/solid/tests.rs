@@ -310,21 +310,4 @@ fn mass_rule_is_the_stiffness_rule_as_in_calculix() {
 // ---------------------------------------------------------------------------
 // Meshes
 
-/// Hexahedron corners in Abaqus order as bit offsets `x + 2 y + 4 z`.
-const HEX_CORNERS: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
-
-/// Mid-edge nodes of the 20-node hexahedron: the corners (0-based) they join.
-const HEX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (1, 2),
-    (2, 3),
-    (3, 0),
-    (4, 5),
-    (5, 6),
-    (6, 7),
-    (7, 4),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
+pub(super) use super::topology::{HEX20_EDGES as HEX_EDGES, HEX_CORNERS};

@@ -61,22 +61,8 @@ fn c3d20_nodes() -> String {
         [2.0, 2.0, 2.0],
         [0.0, 2.0, 2.0],
     ];
-    let edges = [
-        (0, 1),
-        (1, 2),
-        (2, 3),
-        (3, 0),
-        (4, 5),
-        (5, 6),
-        (6, 7),
-        (7, 4),
-        (0, 4),
-        (1, 5),
-        (2, 6),
-        (3, 7),
-    ];
     let mut points: Vec<[f64; 3]> = corners.to_vec();
-    for (a, b) in edges {
+    for (a, b) in flexbody_fem::element::solid::topology::HEX20_EDGES {
         points.push([0, 1, 2].map(|k| 0.5 * (corners[a][k] + corners[b][k])));
     }
     let mut s = String::from("*NODE\n");

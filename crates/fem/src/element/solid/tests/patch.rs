@@ -4,6 +4,7 @@
 use super::{affine, exact_stress, linear_field, max_abs, steel, Random, GRADIENT, OFFSET};
 use super::{HEX_CORNERS, HEX_EDGES};
 use crate::element::mat_vec;
+use crate::element::solid::topology::TET10_EDGES as TET_EDGES;
 use crate::element::solid::{Solid, SolidKind};
 use std::collections::HashMap;
 
@@ -14,9 +15,6 @@ struct Patch {
     interior: Vec<bool>,
     elements: Vec<Vec<usize>>,
 }
-
-/// Mid-edge nodes of the 10-node tetrahedron.
-const TET_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
 
 /// Builds the patch: the unit cube through the global [`affine`] map, with
 /// interior grid points moved at random if `move_corners` and interior
