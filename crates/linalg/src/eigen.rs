@@ -83,9 +83,7 @@ pub fn symmetric_eigen(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), Linal
         .flat_map(|j| (j..n).map(move |i| (i, j)))
         .fold(0.0_f64, |m, (i, j)| m.max(a[(i, j)].abs()));
     if !largest.is_finite() {
-        return Err(LinalgError::Faer(format!(
-            "symmetric eigen-decomposition of a {n}x{n} matrix with a non-finite entry"
-        )));
+        return Err(LinalgError::NonFinite { n });
     }
     let scale = if largest > 0.0 {
         (-largest.log2().floor() - 1.0)

@@ -417,10 +417,11 @@ pub fn lanczos_on(
                 // More eigenvalues below the bound than it has: pairs found
                 // twice or spurious ones (lost orthogonality). Never
                 // returned as modes.
-                return Err(LinalgError::Faer(format!(
-                    "the Lanczos runs found {have} eigenvalues below {bound:.6e} where \
-                     the Sturm count has {count}: spurious eigenpairs"
-                )));
+                return Err(LinalgError::SturmSpurious {
+                    found: have,
+                    count,
+                    bound,
+                });
             }
             if maybe >= count {
                 report = Some(SturmReport {
@@ -432,10 +433,12 @@ pub fn lanczos_on(
                 break;
             }
             if attempts == params.sturm_runs {
-                return Err(LinalgError::Faer(format!(
-                    "the Lanczos runs found {have} of the {count} eigenvalues below \
-                     {bound:.6e} (Sturm count) in {attempts} runs after the first"
-                )));
+                return Err(LinalgError::SturmMissing {
+                    found: have,
+                    count,
+                    bound,
+                    runs: attempts,
+                });
             }
             if op.sign > 0.0 || (slice.0 != bound && below(&locked, slice.0) >= slice.1) {
                 // Back to the band's top: a band's count came first, or a
@@ -788,9 +791,7 @@ impl Operator<'_> {
                 Err(e) => return Err(e),
             }
         }
-        Err(LinalgError::Faer(format!(
-            "no Sturm count near {bound:e}: K - s M stays singular"
-        )))
+        Err(LinalgError::NoSturmCount { bound })
     }
 
     /// `(K - sigma M)^-1 Y` for `Y = M V` given, in its storage.
@@ -1243,10 +1244,10 @@ fn krylov_schur(
     loop {
         step += 1;
         if step > params.max_steps {
-            return Err(LinalgError::Faer(format!(
-                "Lanczos did not converge in {} steps ({nev} eigenpairs wanted)",
-                params.max_steps
-            )));
+            return Err(LinalgError::NotConverged {
+                steps: params.max_steps,
+                wanted: nev,
+            });
         }
         // Expand the pending block [e, c).
         let blk = c - e;

@@ -109,7 +109,7 @@ impl SymbolicLdlt {
     /// for faer's AMD.
     ///
     /// Under nested dissection the supernodes come from the graph of the
-    /// nodes ([`crate::supernodes`]); faer analyses the equations
+    /// nodes (the `supernodes` module); faer analyses the equations
     /// under AMD, and where the factor is simplicial.
     pub fn analyze_permuted(
         pattern: SymbolicSparseColMatRef<'_, usize>,
@@ -177,7 +177,7 @@ impl SymbolicLdlt {
     }
 
     /// Floating-point operations of one numeric factorisation (see
-    /// [`Supernodes::flops`]).
+    /// `Supernodes::flops`).
     pub fn factor_flops(&self) -> f64 {
         match &*self.inner {
             Analysis::Supernodal(s) => s.supernodes.flops(),

@@ -4,19 +4,19 @@
 //! [`faer::sparse::SparseColMat`] and call these algorithms:
 //! - [`ldlt`]: sparse `LDL^T` with a symbolic/numeric split, block solves,
 //!   pivot inspection (singularity, inertia); its supernodes
-//!   ([`supernodes`]) analysed on the node graph;
+//!   (the `supernodes` module) analysed on the node graph;
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
 //!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
 //!   fill-reducing [`ordering`], reporting to a [`progress`] hook, with
-//!   block solves in parallel over the elimination tree ([`supernodal`]);
+//!   block solves in parallel over the elimination tree (the `supernodal` module);
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
 
 pub mod eigen;
 pub mod lanczos;
 pub mod ldlt;
-pub mod lower;
+mod lower;
 pub mod memory;
 mod numeric;
 pub mod ordering;
@@ -24,9 +24,9 @@ pub mod orthonormal;
 pub mod progress;
 pub mod shift_invert;
 pub mod sparse;
-pub mod supernodal;
-pub mod supernodes;
-pub mod tall;
+mod supernodal;
+mod supernodes;
+mod tall;
 
 pub use faer::sparse::SparseColMat;
 pub use faer::{Mat, MatRef};
@@ -63,9 +63,40 @@ pub enum LinalgError {
         room: String,
         bound: String,
     },
-    /// faer could not complete an operation (out of memory, index overflow).
+    /// The mass matrix of a set of Ritz vectors is singular.
     #[error("the mass matrix resolves {modes} modes for {coordinates} coordinates: the others combine to a mass at round-off (nearly dependent Ritz vectors, such as residual modes of interface nodes close together)")]
     MasslessDirections { modes: usize, coordinates: usize },
+    /// The Lanczos runs found fewer eigenvalues below a bound than the
+    /// Sturm count says there are, after the runs allowed.
+    #[error("linear algebra failure: the Lanczos runs found {found} of the {count} eigenvalues below {bound:.6e} (Sturm count) in {runs} runs after the first")]
+    SturmMissing {
+        found: usize,
+        count: usize,
+        bound: f64,
+        runs: usize,
+    },
+    /// The Lanczos runs found more eigenvalues below a bound than the Sturm
+    /// count has: pairs found twice or spurious ones.
+    #[error("linear algebra failure: the Lanczos runs found {found} eigenvalues below {bound:.6e} where the Sturm count has {count}: spurious eigenpairs")]
+    SturmSpurious {
+        found: usize,
+        count: usize,
+        bound: f64,
+    },
+    /// `K - s M` stayed singular at every shift tried near a bound.
+    #[error("linear algebra failure: no Sturm count near {bound:e}: K - s M stays singular")]
+    NoSturmCount { bound: f64 },
+    /// The Lanczos iterations did not converge in the steps allowed.
+    #[error("linear algebra failure: Lanczos did not converge in {steps} steps ({wanted} eigenpairs wanted)")]
+    NotConverged { steps: usize, wanted: usize },
+    /// A dense matrix handed in has a non-finite entry.
+    #[error("linear algebra failure: symmetric eigen-decomposition of a {n}x{n} matrix with a non-finite entry")]
+    NonFinite { n: usize },
+    /// The fill-reducing ordering failed (a graph too large for METIS's
+    /// 32-bit indices, or METIS's own error).
+    #[error("linear algebra failure: {0}")]
+    Ordering(String),
+    /// faer could not complete an operation (out of memory, index overflow).
     #[error("linear algebra failure: {0}")]
     Faer(String),
 }

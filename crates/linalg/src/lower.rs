@@ -183,11 +183,6 @@ impl LowerPattern {
         self.row_idx.len()
     }
 
-    /// Whether the pattern has no entries (a 0 x 0 matrix).
-    pub fn is_empty(&self) -> bool {
-        self.row_idx.is_empty()
-    }
-
     /// Calls `f` with the pattern for faer (row indices widened to
     /// `usize` in a temporary, for an analysis or a factorisation).
     pub fn with_symbolic<R>(&self, f: impl FnOnce(SymbolicSparseColMatRef<'_, usize>) -> R) -> R {
@@ -244,7 +239,10 @@ impl LowerPattern {
     }
 
     /// `a += s B` for `a` on this pattern and `B` (`b` on `sub`, a pattern
-    /// whose columns are subsets of this one's), columns in parallel.
+    /// whose columns are subsets of this one's), columns in parallel. Only
+    /// the tests add patterns: the factorisation forms `K - sigma M` entry
+    /// by entry as it gathers a supernode.
+    #[cfg(test)]
     pub fn add_scaled(&self, a: &mut [f64], s: f64, sub: &LowerPattern, b: &[f64]) {
         assert_eq!(
             sub.dim(),

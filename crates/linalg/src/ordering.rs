@@ -12,7 +12,7 @@
 //! orders the vertices, and the order is expanded back to the equations.
 //! This makes the graph 3-6 times smaller and the ordering that much faster,
 //! with the same fill. The order comes with that graph ([`Dissection`]):
-//! the symbolic analysis works on it too ([`crate::supernodes`]).
+//! the symbolic analysis works on it too (the `supernodes` module).
 
 use crate::LinalgError;
 use faer::sparse::SymbolicSparseColMatRef;
@@ -46,7 +46,7 @@ impl Ordering {
 
 /// A fill-reducing order of the equations, with the node graph it was
 /// computed on where it came from [`nested_dissection`] (the symbolic
-/// analysis then works on that graph: [`crate::supernodes`]).
+/// analysis then works on that graph: the `supernodes` module).
 #[derive(Clone, Debug)]
 pub struct Dissection {
     /// `forward[new] = old`.
@@ -135,7 +135,7 @@ pub fn nested_dissection(
     let nv = first_of.len();
     first_of.push(n);
     if nv > i32::MAX as usize {
-        return Err(LinalgError::Faer(
+        return Err(LinalgError::Ordering(
             "graph too large for 32-bit METIS indices".into(),
         ));
     }
@@ -159,7 +159,7 @@ pub fn nested_dissection(
     edges.sort_unstable();
     edges.dedup();
     if edges.len() > i32::MAX as usize {
-        return Err(LinalgError::Faer(
+        return Err(LinalgError::Ordering(
             "graph too large for 32-bit METIS indices".into(),
         ));
     }
@@ -311,7 +311,7 @@ fn metis_node_nd(
         )
     };
     if status != ms::rstatus_et_METIS_OK {
-        return Err(LinalgError::Faer(format!(
+        return Err(LinalgError::Ordering(format!(
             "METIS nested dissection failed (status {status})"
         )));
     }

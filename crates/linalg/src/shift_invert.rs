@@ -3,7 +3,7 @@
 //! eigen solvers, and the Sturm count (inertia) at any shift.
 //!
 //! The pencil keeps its own compact copy of `K` and `M`: their lower
-//! triangles on one union pattern ([`LowerPattern`]), 0.17 GB at 3e5 DOFs
+//! triangles on one union pattern (`LowerPattern`), 0.17 GB at 3e5 DOFs
 //! where both in full storage take 0.52 GB, so a caller that needs them no
 //! more can drop them. The values of `A(sigma)` are `k - sigma m` entry by
 //! entry. The symbolic analysis ([`SymbolicLdlt`]: ordering, elimination

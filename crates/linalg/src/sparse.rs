@@ -72,7 +72,7 @@ pub fn mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
 /// of `a` dotted with `b`, so every thread reads `a` column by column and
 /// writes its own rows. faer's generic product runs on one thread; this one
 /// is what the reductions' `K Psi` and the residuals use (the eigen solver
-/// multiplies with its compact copy, [`crate::lower::LowerPattern::mul`]).
+/// multiplies with its compact copy, `LowerPattern::mul`).
 pub fn symmetric_mul(a: &SparseMat, b: MatRef<'_, f64>) -> Mat<f64> {
     use rayon::prelude::*;
     assert_eq!(a.ncols(), b.nrows(), "symmetric_mul: dimensions");

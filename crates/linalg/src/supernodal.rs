@@ -170,6 +170,7 @@ impl SolvePlan {
     }
 
     /// Number of subtrees solved in parallel.
+    #[cfg(test)]
     pub fn tasks(&self) -> usize {
         self.tasks.len()
     }
