@@ -261,14 +261,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                 .map(|e| e.loc),
             _ => None,
         };
-        match loc {
-            Some(loc) => files.error(loc, err.to_string()),
-            None => InputError::Invalid {
-                path: files.paths[0].clone(),
-                line: None,
-                message: err.to_string(),
-            },
-        }
+        files.error_near(loc, err.to_string())
     })?;
     // Interface points of *COUPLING cards.
     let mut coupled = Vec::new();
@@ -297,14 +290,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                 FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
                 _ => None,
             };
-            match loc {
-                Some(loc) => files.error(loc, err.to_string()),
-                None => InputError::Invalid {
-                    path: files.paths[0].clone(),
-                    line: None,
-                    message: err.to_string(),
-                },
-            }
+            files.error_near(loc, err.to_string())
         })?
     };
     // Every element's geometry in parallel; the first bad one (in the
@@ -315,14 +301,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         .filter_map(|e| e.validate(&model).err().map(|err| (e.id(), err)))
         .find_first(|_| true);
     if let Some((id, err)) = bad {
-        return Err(match element_loc.get(&id) {
-            Some(loc) => files.error(*loc, err.to_string()),
-            None => InputError::Invalid {
-                path: files.paths[0].clone(),
-                line: None,
-                message: err.to_string(),
-            },
-        });
+        return Err(files.error_near(element_loc.get(&id).copied(), err.to_string()));
     }
     Ok(Built {
         model,

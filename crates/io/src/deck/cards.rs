@@ -34,6 +34,18 @@ impl Files {
         }
     }
 
+    /// An error at `loc` where there is one, else of the main file.
+    pub fn error_near(&self, loc: Option<Loc>, message: impl Into<String>) -> InputError {
+        match loc {
+            Some(loc) => self.error(loc, message),
+            None => InputError::Invalid {
+                path: self.paths[0].clone(),
+                line: None,
+                message: message.into(),
+            },
+        }
+    }
+
     /// `"line 40"` in the main file, `"nodes.inp line 4"` in an included one.
     pub fn describe(&self, loc: Loc) -> String {
         if loc.file == 0 {

@@ -511,21 +511,22 @@ impl<'a> Reader<'a> {
         set: String,
         entries: impl IntoIterator<Item = (NodeId, Loc)>,
     ) {
-        if !self.node_sets.contains_key(&set) {
-            self.node_set_order.push(set.clone());
-        }
-        self.node_sets.entry(set).or_default().extend(entries);
+        add_set_entries(&mut self.node_sets, &mut self.node_set_order, set, entries);
     }
 
+    /// Adds entries to an element set, recording the order sets are defined
+    /// in.
     fn add_element_set_entries(
         &mut self,
         set: String,
         entries: impl IntoIterator<Item = (usize, Loc)>,
     ) {
-        if !self.element_sets.contains_key(&set) {
-            self.element_set_order.push(set.clone());
-        }
-        self.element_sets.entry(set).or_default().extend(entries);
+        add_set_entries(
+            &mut self.element_sets,
+            &mut self.element_set_order,
+            set,
+            entries,
+        );
     }
 
     /// `first, last[, step]` of a `GENERATE` line.
@@ -826,4 +827,18 @@ impl<'a> Reader<'a> {
         self.warn_once(card, "");
         Ok(())
     }
+}
+
+/// Adds entries to the set `set` of `sets`, appending its name to `order`
+/// when it is new.
+fn add_set_entries<T>(
+    sets: &mut BTreeMap<String, Vec<(T, Loc)>>,
+    order: &mut Vec<String>,
+    set: String,
+    entries: impl IntoIterator<Item = (T, Loc)>,
+) {
+    if !sets.contains_key(&set) {
+        order.push(set.clone());
+    }
+    sets.entry(set).or_default().extend(entries);
 }
