@@ -520,10 +520,16 @@ fn peak_memory() -> String {
     })
 }
 
-fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
+/// The vehicle of a model file and its output folder, made before the
+/// body is reduced (unless `full`), so that a bad path fails first.
+fn vehicle(model: &Path, out: &Path, full: bool) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read(model)?;
     let folder = OutputFolder::make(out)?;
-    let v = if full { v } else { v.reduced()? };
+    Ok((if full { v } else { v.reduced()? }, folder))
+}
+
+fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
+    let (v, folder) = vehicle(model, out, full)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
@@ -544,9 +550,7 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
 }
 
 fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
-    let v = Vehicle::read(model)?;
-    let folder = OutputFolder::make(out)?;
-    let v = if full { v } else { v.reduced()? };
+    let (v, folder) = vehicle(model, out, full)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
