@@ -470,7 +470,9 @@ fn reported_globally(s: &Supernodal) -> impl Fn(f64) + Sync {
 }
 
 /// Counts of negative, zero and positive pivots: by Sylvester's law of inertia
-/// the counts of eigenvalues of `A` below, at and above zero.
+/// the counts of eigenvalues of `A` below, at and above zero. For
+/// `A = K - sigma M` (M positive definite), the negative count is the number
+/// of eigenvalues of `K phi = lambda M phi` below `sigma` (the Sturm count).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Inertia {
     pub negative: usize,

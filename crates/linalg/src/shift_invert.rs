@@ -14,7 +14,7 @@
 //! below the spectrum and, above it, stable enough for the inertia that a
 //! Sturm check needs (the practice of Lanczos codes in FE programs).
 
-use crate::ldlt::SymbolicLdlt;
+use crate::ldlt::{Inertia, SymbolicLdlt};
 use crate::lower::LowerPattern;
 use crate::numeric::Input;
 use crate::ordering::{nested_dissection, Ordering};
@@ -55,22 +55,13 @@ impl Clone for Spare {
     }
 }
 
-/// Counts of negative, zero and positive pivots of `K - sigma M`; the
-/// negative count is the number of eigenvalues below `sigma`.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub struct PivotSigns {
-    pub negative: usize,
-    pub zero: usize,
-    pub positive: usize,
-}
-
 /// The numeric `LDL^T` of `K - sigma M`.
 #[derive(Clone, Debug)]
 pub struct ShiftedFactor {
     symbolic: SymbolicLdlt,
     values: Vec<f64>,
     shift: f64,
-    signs: PivotSigns,
+    signs: Inertia,
     /// The first row (elimination order) whose pivot is round-off against
     /// its diagonal; an error for [`ShiftedPencil::factorize_static`], legitimate
     /// in a shifted, indefinite matrix.
@@ -375,7 +366,7 @@ impl ShiftedPencil {
             });
         }
         result?;
-        let mut signs = PivotSigns {
+        let mut signs = Inertia {
             negative: 0,
             zero: 0,
             positive: 0,
@@ -418,7 +409,7 @@ impl ShiftedFactor {
     }
 
     /// Signs of the pivots: `negative` eigenvalues lie below the shift.
-    pub fn inertia(&self) -> PivotSigns {
+    pub fn inertia(&self) -> Inertia {
         self.signs
     }
 
