@@ -284,6 +284,7 @@ fn invert6(a: &[[f64; 6]; 6]) -> Option<[[f64; 6]; 6]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::solid::topology::hex_cell;
     use crate::element::{Solid, SolidKind};
     use crate::{assemble, Element, Material, Model, Node};
     use faer::Mat;
@@ -315,16 +316,7 @@ mod tests {
                 Element::Solid(Solid {
                     id: i + 1,
                     kind: SolidKind::C3D8,
-                    nodes: vec![
-                        id(i, 0, 0),
-                        id(i + 1, 0, 0),
-                        id(i + 1, 1, 0),
-                        id(i, 1, 0),
-                        id(i, 0, 1),
-                        id(i + 1, 0, 1),
-                        id(i + 1, 1, 1),
-                        id(i, 1, 1),
-                    ],
+                    nodes: hex_cell(i, 0, 0, |[a, b, c]| id(a, b, c)),
                     material: material.clone(),
                 })
             })

@@ -1,6 +1,7 @@
 //! Solid bars and blocks built in code, springs to ground, and a
 //! comparison of frequency lists.
 
+use flexbody_fem::element::solid::topology::hex_cell;
 use flexbody_fem::element::solid::{Solid, SolidKind};
 use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node, Substructure};
 use std::collections::BTreeMap;
@@ -52,16 +53,7 @@ pub(crate) fn block_held(
                 elements.push(Element::Solid(Solid {
                     id: elements.len() + 1,
                     kind: SolidKind::C3D8,
-                    nodes: vec![
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ],
+                    nodes: hex_cell(i, j, k, |[a, b, c]| id(a, b, c)),
                     material: steel.clone(),
                 }));
             }
@@ -164,16 +156,7 @@ pub(crate) fn bar_of_densities(nx: usize, density: impl Fn(usize) -> f64) -> Sub
             Element::Solid(Solid {
                 id: i + 1,
                 kind: SolidKind::C3D8,
-                nodes: vec![
-                    id(i, 0, 0),
-                    id(i + 1, 0, 0),
-                    id(i + 1, 1, 0),
-                    id(i, 1, 0),
-                    id(i, 0, 1),
-                    id(i + 1, 0, 1),
-                    id(i + 1, 1, 1),
-                    id(i, 1, 1),
-                ],
+                nodes: hex_cell(i, 0, 0, |[a, b, c]| id(a, b, c)),
                 material: Material::new(2.1e11, 0.3, density(i)).unwrap(),
             })
         })

@@ -27,3 +27,12 @@ pub const HEX20_EDGES: [(usize, usize); 12] = [
 /// Mid-edge nodes 5-10 of the 10-node tetrahedron: the corners (0-based)
 /// each joins.
 pub const TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+
+/// The 8 corner nodes, in Abaqus order, of the cell `(i, j, k)` of a
+/// structured grid whose point `[i, j, k]` is node `node([i, j, k])`.
+pub fn hex_cell<N>(i: usize, j: usize, k: usize, node: impl Fn([usize; 3]) -> N) -> Vec<N> {
+    HEX_CORNERS
+        .iter()
+        .map(|&b| node([i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1)]))
+        .collect()
+}
