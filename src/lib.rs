@@ -26,7 +26,7 @@
 //! ```
 
 pub mod input;
-pub mod output;
+pub mod output_folder;
 pub mod plot;
 pub mod report;
 pub mod scenario;

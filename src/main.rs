@@ -5,7 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use flexbody::output::OutputFolder;
+use flexbody::output_folder::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
 use flexbody::simulate::Vehicle;
