@@ -11,8 +11,10 @@
 //! Data flows one way, one crate per stage:
 //! [`fem`] (model, K, M) -> [`reduce`] (modes, [`reduce::ReducedBody`]) ->
 //! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
-//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads model files and
-//! [`export`] writes reduced bodies.
+//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads model files,
+//! [`output`] computes what the files of a reduced body hold besides the body
+//! (the SID's floating-frame content, the VTU's mode fields), and [`export`]
+//! formats them.
 //!
 //! ```no_run
 //! use flexbody::{fem, io, reduce};
@@ -25,6 +27,7 @@
 //! ```
 
 pub mod input;
+pub mod output;
 pub mod plot;
 pub mod report;
 pub mod simulate;
