@@ -13,7 +13,9 @@
 //! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
 //! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads FE
 //! models, [`scenario`] what a model file does with its model (interface,
-//! MBS, study), and [`export`] writes reduced bodies.
+//! MBS, study), [`output`] computes what the files of a reduced body hold
+//! besides the body (the SID's floating-frame content, the VTU's mode
+//! fields), and [`export`] formats them.
 //!
 //! ```no_run
 //! use flexbody::{fem, reduce, scenario};
@@ -26,6 +28,7 @@
 //! ```
 
 pub mod input;
+pub mod output;
 pub mod output_folder;
 pub mod plot;
 pub mod report;

@@ -9,7 +9,7 @@ use flexbody::output_folder::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
 use flexbody::simulate::Vehicle;
-use flexbody::{export, input, plot, reduce as red, scenario, simulate, study};
+use flexbody::{export, input, output, plot, reduce as red, scenario, simulate, study};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -392,24 +392,12 @@ fn run_reduce(
     ));
     let comparison = report::compare_frequencies(&c.sub, &body, compare)?;
     let (full_hz, reduced_hz) = (&comparison.full_hz, &comparison.reduced_hz);
-    if format == export::Format::Mtx {
-        // The index carries the accuracy figures: the full model's
-        // frequencies and the relative error of each reduced one.
-        let meta = export::mtx::Metadata {
-            full_frequencies_hz: full_hz.clone(),
-            accuracy: comparison
-                .relative_errors()
-                .into_iter()
-                .map(|(k, e)| (format!("relative frequency error, mode {k:02}"), e))
-                .collect(),
-        };
-        export::mtx::write_mtx(&body, Some(&c.sub), &meta, out)?;
-    } else {
-        export::write(&body, &c.sub, c.model.as_ref(), format, out)?;
-    }
+    let metadata = output::index_metadata(&comparison);
+    let files = output::body_output(&c.sub, c.model.as_ref(), &body, format, metadata)?;
+    export::write(&files, format, out)?;
     stage_log::step(&format!("written: {}", out.display()));
     if let (Some(path), Some(mesh)) = (vtu, &c.model) {
-        export::vtk::write_vtu(mesh, &body, path)?;
+        export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, path)?;
     }
     if json {
         let doc =

@@ -3,11 +3,33 @@
 //! detection.
 
 use super::support::{hex_beam, reduce_with};
-use flexbody::export::sid::{parse_sid, read_sid, write_sid, Sid};
+use flexbody::export::sid::{parse_sid, read_sid, write_sid};
 use flexbody::export::{
-    read_any, read_json, summary, vtk, write, write_json, AnyBody, ExportError, Format,
+    read_any, read_json, summary, vtk, write_json, AnyBody, ExportError, Format,
 };
-use flexbody::reduce::Method;
+use flexbody::fem::{Model, Substructure};
+use flexbody::output;
+use flexbody::reduce::{Method, ReducedBody};
+use std::path::Path;
+
+/// Writes `body` in `format` as `flexbody reduce` does (without accuracy
+/// figures): its file content computed, then formatted.
+fn write(
+    body: &ReducedBody,
+    sub: &Substructure,
+    model: Option<&Model>,
+    format: Format,
+    path: &Path,
+) -> Result<(), ExportError> {
+    let files = output::body_output(sub, model, body, format, Default::default()).unwrap();
+    flexbody::export::write(&files, format, path)
+}
+
+/// Writes the VTU file of `body` on `model`: its mode fields computed,
+/// then formatted.
+fn write_vtu(model: &Model, body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
+    vtk::write_vtu(model, &output::mode_fields(model, body).unwrap(), path)
+}
 
 #[test]
 fn sid_round_trip_keeps_every_number() {
@@ -15,9 +37,10 @@ fn sid_round_trip_keeps_every_number() {
     let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.sid");
-    write_sid(&sub, Some(&model), &body, &path).unwrap();
+    let sid = output::sid(&sub, Some(&model), &body).unwrap();
+    write_sid(&sid, &path).unwrap();
     let back = read_sid(&path).unwrap();
-    assert_eq!(back, Sid::new(&sub, Some(&model), &body).unwrap());
+    assert_eq!(back, output::sid(&sub, Some(&model), &body).unwrap());
     assert!(matches!(read_any(&path).unwrap(), AnyBody::Sid(_)));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     let text = std::fs::read_to_string(&path).unwrap();
@@ -51,7 +74,7 @@ fn sid_round_trip_keeps_every_number() {
 fn broken_sid_files_name_the_block_and_line() {
     let (sub, _) = hex_beam();
     let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
-    let text = Sid::new(&sub, None, &body).unwrap().to_text();
+    let text = output::sid(&sub, None, &body).unwrap().to_text();
 
     // Truncated inside Ke.
     let cut = text.find("\nKe\n").unwrap() + 40;
@@ -203,7 +226,7 @@ fn every_writer_leaves_no_partial_file_and_names_the_path() {
     assert!(dir.path().join("missing").read_dir().unwrap().count() == 1);
     // A VTU into a missing folder.
     let path = dir.path().join("nowhere/body.vtu");
-    let e = vtk::write_vtu(&file.model, &body, &path).unwrap_err();
+    let e = write_vtu(&file.model, &body, &path).unwrap_err();
     assert!(e.to_string().contains("nowhere/body.vtu"), "{e}");
 }
 
@@ -230,7 +253,7 @@ fn vtu_holds_the_mesh_the_modes_and_the_stresses() {
     let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.vtu");
-    vtk::write_vtu(&model, &body, &path).unwrap();
+    write_vtu(&model, &body, &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("<VTKFile type=\"UnstructuredGrid\""));
     assert!(text.contains(&format!(
@@ -254,6 +277,6 @@ fn vtu_holds_the_mesh_the_modes_and_the_stresses() {
     // A beam model: lines.
     let (file, _, body) = super::side_beam_body(Method::Free, 4);
     let path = dir.path().join("beam.vtu");
-    vtk::write_vtu(&file.model, &body, &path).unwrap();
+    write_vtu(&file.model, &body, &path).unwrap();
     assert_eq!(vtk::cell_types(&file.model), vec![3; 20]);
 }

@@ -79,9 +79,9 @@ fn exudyn_agrees_with_flexbody() {
 /// `flexbody.json` (frequencies, load, settings, tip node, and the tip
 /// displacement history of flexbody's trapezoidal-rule time response).
 fn write_exudyn_data(dir: &std::path::Path) {
-    use flexbody::export::ffrf::elastic_basis;
     use flexbody::mbs::time::{simulate, Excitation, History, TimeForce, TimeSettings};
     use flexbody::mbs::{Endpoint, FlexibleBody, System};
+    use flexbody::reduce::ffrf::elastic_basis;
     use flexbody::reduce::ModeKind;
     std::fs::create_dir_all(dir).unwrap();
     let (sub, _) = hex_beam();

@@ -5,6 +5,7 @@ use super::support::{hex_beam, reduce_with};
 use flexbody::export::sid::Sid;
 use flexbody::fem::{Model, Substructure};
 use flexbody::input::{load, MatrixFiles};
+use flexbody::output;
 use flexbody::reduce::{Method, ReducedBody};
 
 /// A free 3D beam (10 Euler-Bernoulli elements along x, offset from the
@@ -104,7 +105,7 @@ fn box_inertia(m: f64, a: f64, b: f64, c: f64) -> [[f64; 3]; 3] {
 fn sid_of_a_solid_has_the_mass_properties_of_the_full_model() {
     let (sub, model) = hex_beam();
     let body = reduce_with(&sub, Method::FreeResidual, 4, &[13]);
-    let sid = Sid::new(&sub, Some(&model), &body).unwrap();
+    let sid = output::sid(&sub, Some(&model), &body).unwrap();
     let mass = 7850.0 * 0.6 * 0.1 * 0.1;
     check_mass_properties(
         &sid,
@@ -132,7 +133,7 @@ fn sid_of_a_solid_has_the_mass_properties_of_the_full_model() {
 fn sid_of_a_craig_bampton_solid_removes_the_rigid_motion_of_its_constraint_modes() {
     let (sub, model) = hex_beam();
     let body = reduce_with(&sub, Method::CraigBampton, 3, &[1, 27, 79, 13]);
-    let sid = Sid::new(&sub, Some(&model), &body).unwrap();
+    let sid = output::sid(&sub, Some(&model), &body).unwrap();
     let mass = 7850.0 * 0.6 * 0.1 * 0.1;
     check_mass_properties(
         &sid,
@@ -147,7 +148,7 @@ fn sid_of_a_craig_bampton_solid_removes_the_rigid_motion_of_its_constraint_modes
 fn sid_of_a_beam_has_the_mass_properties_of_the_full_model() {
     let (sub, model) = beam_3d();
     let body = reduce_with(&sub, Method::FreeResidual, 3, &[1, 11]);
-    let sid = Sid::new(&sub, Some(&model), &body).unwrap();
+    let sid = output::sid(&sub, Some(&model), &body).unwrap();
     let (rho, area, l, ip) = (7850.0, 0.01, 2.0, 3.0e-5);
     let mass = rho * area * l;
     let c = [1.5, 0.2, -0.1];

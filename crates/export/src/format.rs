@@ -5,7 +5,7 @@ use crate::sid::{read_sid, write_sid, Sid};
 use crate::{mtx, read_json, write_json, ExportError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
-use flexbody_fem::{DofKind, Model, Substructure};
+use flexbody_fem::{DofKind, Substructure};
 use flexbody_reduce::ReducedBody;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -56,22 +56,46 @@ impl std::fmt::Display for Format {
     }
 }
 
-/// Writes `body`, reduced from `sub` (and `model`, the mesh if known), to
-/// `path` in `format`: a file for JSON and SID, a folder for MTX. The SID
-/// needs `sub`'s mass matrix and node coordinates for its invariants and
-/// `model` for the stress rows; JSON needs neither; MTX stores the node
-/// coordinates of `sub` in its index.
-pub fn write(
-    body: &ReducedBody,
-    sub: &Substructure,
-    model: Option<&Model>,
-    format: Format,
-    path: &Path,
-) -> Result<(), ExportError> {
+/// What [`write()`] formats: a reduced body and the values its formats
+/// add to it, each computed before (none of the writers computes).
+#[derive(Clone, Debug)]
+pub struct BodyOutput<'a> {
+    /// The body: all of JSON and Matrix Market.
+    pub body: &'a ReducedBody,
+    /// The model the body was reduced from: the node coordinates of the
+    /// Matrix Market index (none without it).
+    pub sub: Option<&'a Substructure>,
+    /// The SID content (floating-frame invariants and recovery rows), which
+    /// [`Format::Sid`] needs.
+    pub sid: Option<Sid>,
+    /// The accuracy figures of the Matrix Market index.
+    pub metadata: mtx::Metadata,
+}
+
+impl<'a> BodyOutput<'a> {
+    /// The body alone: no SID content, node coordinates or accuracy figures.
+    pub fn new(body: &'a ReducedBody) -> Self {
+        Self {
+            body,
+            sub: None,
+            sid: None,
+            metadata: mtx::Metadata::default(),
+        }
+    }
+}
+
+/// Writes `output` to `path` in `format`: a file for JSON and SID, a folder
+/// for MTX. JSON formats the body; SID the SID content (an error without
+/// it); MTX the body with the node coordinates and accuracy figures in its
+/// index.
+pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(), ExportError> {
     match format {
-        Format::Json => write_json(body, path),
-        Format::Sid => write_sid(sub, model, body, path),
-        Format::Mtx => mtx::write_mtx(body, Some(sub), &mtx::Metadata::default(), path),
+        Format::Json => write_json(output.body, path),
+        Format::Sid => match &output.sid {
+            Some(sid) => write_sid(sid, path),
+            None => Err(ExportError::Missing("the SID content")),
+        },
+        Format::Mtx => mtx::write_mtx(output.body, output.sub, &output.metadata, path),
     }
 }
 

@@ -1,21 +1,25 @@
-//! Reduced-body files. A [`ReducedBody`] becomes
+//! Formats reduced bodies as files (JSON, SID, Matrix Market, VTK), and reads them.
+//!
+//! A [`ReducedBody`] becomes
 //!
 //! - a self-describing JSON document (units, DOF map, method, modes,
 //!   frequencies, matrices), this module;
 //! - a Standard Input Data file (SID, Wallrapp 1994) in the floating frame
-//!   of reference formulation, [`sid`] with the invariants in [`ffrf`];
+//!   of reference formulation, [`sid`], from the invariants computed in
+//!   `flexbody_reduce::ffrf` and the recovery rows;
 //! - a folder of Matrix Market files with a JSON index, [`mtx`], for large
 //!   bodies;
 //! - a VTK unstructured grid with the mode shapes and modal stresses for
-//!   ParaView, [`vtk`].
+//!   ParaView, [`vtk`], from the modes and stresses computed for it.
 //!
+//! The writers only format values they are given: what a format adds to the
+//! body (SID content, accuracy figures) comes in a [`BodyOutput`].
 //! [`write()`] and [`read_any`] pick the format; [`summary`] describes a body
 //! in a few lines. Readers check every count and name the block and line of
 //! what is wrong. Writers go through [`write_atomically`]: a temporary file
 //! beside the target, renamed on success, so a failed write never leaves a
 //! half-written file.
 
-pub mod ffrf;
 mod float_text;
 pub mod format;
 mod json_layout;
@@ -23,7 +27,7 @@ pub mod mtx;
 pub mod sid;
 pub mod vtk;
 
-pub use format::{read_any, summary, write, AnyBody, Format};
+pub use format::{read_any, summary, write, AnyBody, BodyOutput, Format};
 pub use sid::{read_sid, write_sid, Sid};
 
 use faer::Mat;
@@ -52,6 +56,9 @@ pub enum ExportError {
     NonFinite(&'static str),
     #[error("refusing to write a non-finite value in {0}")]
     NonFiniteIn(String),
+    /// A format's content that the [`BodyOutput`] does not hold.
+    #[error("nothing to write: {0} was not computed")]
+    Missing(&'static str),
     /// The model and the body do not fit together, or the body cannot be
     /// expressed in the requested format.
     #[error("{0}")]

@@ -19,17 +19,15 @@
 //! Each quantity is a Taylor expansion `A(q) = m0 + sum_k m1_k q_k`, written
 //! as `order`, `nrow`, `ncol`, `nq`, `nqn`, `structure` and the entries
 //! `m0( i, j) = v` and `m1( i, j, k) = v` (1-based). Field by field, with the
-//! formula behind each, in `docs/sid.md`; the invariants are computed in
-//! [`crate::ffrf`]. The reader checks every count and names the block and the
-//! line of what is wrong.
+//! formula behind each, in `docs/sid.md`. The invariants come computed, as
+//! a [`FloatingFrame`] of `flexbody_reduce::ffrf`, with the recovery rows:
+//! [`Sid::new`] lays them out as Taylor objects. The reader checks every
+//! count and names the block and the line of what is wrong.
 
-use crate::ffrf::{elastic_basis, mass_invariants, node_rows, ElasticBasis};
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::{Mat, MatRef};
-use flexbody_fem::{Model, Substructure};
-use flexbody_reduce::ReducedBody;
-use std::collections::BTreeSet;
+use flexbody_reduce::ffrf::FloatingFrame;
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -144,52 +142,24 @@ fn skew(v: [f64; 3]) -> Mat<f64> {
     Mat::from_fn(3, 3, |i, j| m[i][j])
 }
 
-/// Rows of the recovery matrix `ksigma` (per mode of the body) from the
-/// model: modal stresses of solids, else section forces of beams.
-fn recovery_rows(model: &Model, body: &ReducedBody) -> Result<Mat<f64>, ExportError> {
-    let err = |e: flexbody_fem::FemError| ExportError::Model(format!("stress recovery: {e}"));
-    let stress = flexbody_recover::ModalStress::new(model, body).map_err(err)?;
-    if !stress.nodes.is_empty() {
-        let rows = 6 * stress.nodes.len();
-        return Ok(Mat::from_fn(rows, body.r(), |i, j| {
-            stress.matrices[i / 6][(i % 6, j)]
-        }));
-    }
-    let beams = flexbody_recover::ModalRecovery::new(model, body).map_err(err)?;
-    Ok(Mat::from_fn(12 * beams.elements.len(), body.r(), |i, j| {
-        beams.stiffness[i / 12][(i % 12, j)]
-    }))
-}
-
 impl Sid {
-    /// The SID of `body`, reduced from `sub`; `model` (the mesh, if known)
-    /// gives the stress or section-force rows `ksigma`.
-    pub fn new(
-        sub: &Substructure,
-        model: Option<&Model>,
-        body: &ReducedBody,
-    ) -> Result<Self, ExportError> {
-        let basis = elastic_basis(sub, body)?;
-        Self::with_basis(sub, model, body, &basis)
-    }
-
-    /// As [`Sid::new`], with the elastic coordinates given.
-    pub fn with_basis(
-        sub: &Substructure,
-        model: Option<&Model>,
-        body: &ReducedBody,
-        basis: &ElasticBasis,
-    ) -> Result<Self, ExportError> {
-        let inv = mass_invariants(sub, basis)?;
-        let nq = basis.shapes.ncols();
+    /// The SID of a body in its floating `frame`, with `ksigma` the
+    /// recovery rows in the elastic coordinates (nq columns; no rows
+    /// without a mesh): the invariants and frame nodes laid out as Taylor
+    /// objects, the elastic modes named by their frequencies.
+    pub fn new(frame: FloatingFrame, ksigma: Mat<f64>) -> Self {
+        let nq = frame.nq();
+        let FloatingFrame {
+            elastic: basis,
+            invariants: inv,
+            nodes,
+        } = frame;
         let col3 = |v: [f64; 3]| Mat::from_fn(3, 1, |i, _| v[i]);
         let m33 = |a: [[f64; 3]; 3]| Mat::from_fn(3, 3, |i, j| a[i][j]);
-        let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
         let nodes = nodes
             .into_iter()
-            .map(|id| {
-                let (phi, psi) = node_rows(body, &basis.shapes, id);
-                let x = sub.node_coordinates(id).unwrap_or([0.0; 3]);
+            .map(|node| {
+                let (id, x, phi, psi) = (node.id, node.position, node.translations, node.rotations);
                 SidNode {
                     id,
                     origin: Taylor::linear(
@@ -209,12 +179,8 @@ impl Sid {
                 }
             })
             .collect();
-        let ksigma = match model {
-            Some(model) => recovery_rows(model, body)? * &basis.transform,
-            None => Mat::zeros(0, nq),
-        };
         let frequencies = &basis.frequencies_hz;
-        Ok(Self {
+        Self {
             refmod: Refmod {
                 mass: inv.mass,
                 ielastq: frequencies
@@ -233,12 +199,9 @@ impl Sid {
             ge: Taylor::constant(inv.ge, nq),
             oe: Taylor::linear(inv.oe, inv.oe1),
             ksigma: Taylor::constant(ksigma, nq),
-            ke: Taylor::constant(basis.stiffness.clone(), nq),
-            de: Taylor::constant(
-                basis.damping.clone().unwrap_or_else(|| Mat::zeros(nq, nq)),
-                nq,
-            ),
-        })
+            ke: Taylor::constant(basis.stiffness, nq),
+            de: Taylor::constant(basis.damping.unwrap_or_else(|| Mat::zeros(nq, nq)), nq),
+        }
     }
 
     /// Number of elastic coordinates.
@@ -253,8 +216,7 @@ impl Sid {
 
     /// Natural frequencies of the elastic modes (Hz), from `Ke` and `Me`.
     pub fn frequencies_hz(&self) -> Result<Vec<f64>, ExportError> {
-        flexbody_linalg::eigen::generalized_symmetric(self.ke.m0.as_ref(), self.me.m0.as_ref())
-            .map(|p| p.frequencies_hz())
+        flexbody_reduce::natural_frequencies_hz(self.ke.m0.as_ref(), self.me.m0.as_ref())
             .map_err(|e| ExportError::Model(format!("SID modal matrices: {e}")))
     }
 
@@ -395,19 +357,8 @@ fn write_entries(
     })
 }
 
-/// Writes the SID of `body` (see [`Sid::new`]) to `path`, atomically.
-pub fn write_sid(
-    sub: &Substructure,
-    model: Option<&Model>,
-    body: &ReducedBody,
-    path: &Path,
-) -> Result<(), ExportError> {
-    let sid = Sid::new(sub, model, body)?;
-    write_sid_file(&sid, path)
-}
-
 /// Writes `sid` to `path`, atomically; refuses non-finite values.
-pub fn write_sid_file(sid: &Sid, path: &Path) -> Result<(), ExportError> {
+pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
     for (name, t) in sid.quantities() {
         if !t.m0.norm_max().is_finite() || t.m1.iter().any(|m| !m.norm_max().is_finite()) {
             return Err(ExportError::NonFiniteIn(name.to_string()));

@@ -15,13 +15,14 @@
 //! rotation DOFs), and for solids `mode kk stress` (6 components, Voigt
 //! `sxx syy szz sxy syz szx`, Pa) and `mode kk von Mises` (Pa), averaged at
 //! the nodes. Field data `frequencies_hz` lists the modes' frequencies.
-//! Nodes without a DOF or stress get zeros.
+//! Nodes without a DOF or stress get zeros. The modes and their stresses
+//! come computed, as [`ModeFields`].
 
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::Mat;
 use flexbody_fem::element::SolidKind;
-use flexbody_fem::{Dof, DofKind, Element, Model};
+use flexbody_fem::{Dof, DofKind, Element, Model, NodeId};
 use flexbody_reduce::ReducedBody;
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -85,8 +86,23 @@ fn data_array(s: &mut String, name: &str, components: usize, values: &[f64]) {
     s.push_str("\n        </DataArray>\n");
 }
 
-/// The VTU text of `model` with the modes of `body` (see the module docs).
-pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError> {
+/// The point data of the VTU file: the eigenmodes of a reduced body and
+/// their stresses at the mesh's nodes.
+#[derive(Clone, Debug)]
+pub struct ModeFields {
+    /// The body in its eigenmodes (`ReducedBody::orthonormalized`): column
+    /// k of the basis is mode k, M-normalised, and `modes[k]` carries its
+    /// frequency.
+    pub modes: ReducedBody,
+    /// The nodes with stresses (those of solids), ascending.
+    pub stress_nodes: Vec<NodeId>,
+    /// Per node of `stress_nodes`, the 6 x r modal stresses (Voigt `sxx syy
+    /// szz sxy syz szx`, Pa per unit modal coordinate), averaged at the node.
+    pub stress: Vec<Mat<f64>>,
+}
+
+/// Checks that `body` was reduced from `model`: the same DOFs.
+pub fn check_mesh(model: &Model, body: &ReducedBody) -> Result<(), ExportError> {
     if body.dof_map.dofs() != model.dof_map().dofs() {
         return Err(ExportError::Model(format!(
             "the body has {} DOFs and the model {}, or they differ",
@@ -94,11 +110,14 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
             model.dof_map().len()
         )));
     }
-    let modes = body
-        .orthonormalized()
-        .map_err(|e| ExportError::Model(format!("eigenmodes of the reduced body: {e}")))?;
-    let stress = flexbody_recover::ModalStress::new(model, &modes)
-        .map_err(|e| ExportError::Model(format!("modal stresses: {e}")))?;
+    Ok(())
+}
+
+/// The VTU text of `model` with the mode `fields` of a body reduced from it
+/// (see the module docs).
+pub fn vtu_text(model: &Model, fields: &ModeFields) -> Result<String, ExportError> {
+    let modes = &fields.modes;
+    check_mesh(model, modes)?;
     let nodes = model.nodes();
     let point_of: HashMap<u64, usize> = nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect();
     let r = modes.r();
@@ -156,7 +175,7 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
     // (The modal stresses' nodes ascend.)
     let stress_rows: Vec<Option<usize>> = nodes
         .iter()
-        .map(|n| stress.nodes.binary_search(&n.id).ok())
+        .map(|n| fields.stress_nodes.binary_search(&n.id).ok())
         .collect();
     for k in 0..r {
         let name = format!("mode {:02}", k + 1);
@@ -169,12 +188,12 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
         if has_rotations {
             data_array(&mut s, &format!("{name} rotation"), 3, &field(3));
         }
-        if !stress.nodes.is_empty() {
+        if !fields.stress_nodes.is_empty() {
             let sigma: Vec<[f64; 6]> = stress_rows
                 .iter()
                 .map(|row| {
                     row.map_or([0.0; 6], |i| {
-                        let m: &Mat<f64> = &stress.matrices[i];
+                        let m: &Mat<f64> = &fields.stress[i];
                         std::array::from_fn(|c| m[(c, k)])
                     })
                 })
@@ -221,9 +240,9 @@ pub fn vtu_text(model: &Model, body: &ReducedBody) -> Result<String, ExportError
     Ok(s)
 }
 
-/// Writes the VTU file of `model` with the modes of `body` to `path`,
+/// Writes the VTU file of `model` with the mode `fields` to `path`,
 /// atomically.
-pub fn write_vtu(model: &Model, body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
-    let text = vtu_text(model, body)?;
+pub fn write_vtu(model: &Model, fields: &ModeFields, path: &Path) -> Result<(), ExportError> {
+    let text = vtu_text(model, fields)?;
     write_atomically(path, |out| out.write_all(text.as_bytes()))
 }

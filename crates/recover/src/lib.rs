@@ -167,3 +167,23 @@ impl ModalRecovery {
         }
     }
 }
+
+/// The recovery matrix of `body` on `model`, one column per basis vector:
+/// the modal stresses of the solids if the model has any (6 rows per solid
+/// node, Voigt `sxx syy szz sxy syz szx`, Pa, nodes ascending, as in
+/// [`ModalStress`]), else the section forces of the beams (12 rows per
+/// element, `N Qy Qz T My Mz` at start then end: `S_K = K_e T_e` of
+/// [`ModalRecovery`]). No rows for a model with neither.
+pub fn recovery_matrix(model: &Model, body: &ReducedBody) -> Result<Mat<f64>, FemError> {
+    let stress = ModalStress::new(model, body)?;
+    if !stress.nodes.is_empty() {
+        let rows = 6 * stress.nodes.len();
+        return Ok(Mat::from_fn(rows, body.r(), |i, j| {
+            stress.matrices[i / 6][(i % 6, j)]
+        }));
+    }
+    let beams = ModalRecovery::new(model, body)?;
+    Ok(Mat::from_fn(12 * beams.elements.len(), body.r(), |i, j| {
+        beams.stiffness[i / 12][(i % 12, j)]
+    }))
+}

@@ -1,11 +1,21 @@
 //! The reduced flexible body: plain data, the output of every method.
 
 use crate::method::Method;
-use faer::Mat;
+use faer::{Mat, MatRef};
 use flexbody_fem::{Dof, DofMap};
 use flexbody_linalg::eigen::{frequency_hz, generalized_symmetric};
 use flexbody_linalg::LinalgError;
 use serde::{Deserialize, Serialize};
+
+/// Natural frequencies (Hz) of `K x = w^2 M x` for small dense symmetric
+/// matrices, ascending: those of a free reduced body for `K_red`, `M_red`
+/// (eq. 5-7), or of the elastic modes for `Ke`, `Me`.
+pub fn natural_frequencies_hz(
+    stiffness: MatRef<'_, f64>,
+    mass: MatRef<'_, f64>,
+) -> Result<Vec<f64>, LinalgError> {
+    Ok(generalized_symmetric(stiffness, mass)?.frequencies_hz())
+}
 
 /// What a column of the Ritz basis is.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -85,7 +95,7 @@ impl ReducedBody {
 
     /// Natural frequencies (Hz) of the free reduced body, ascending.
     pub fn frequencies_hz(&self) -> Result<Vec<f64>, LinalgError> {
-        Ok(generalized_symmetric(self.stiffness.as_ref(), self.mass.as_ref())?.frequencies_hz())
+        natural_frequencies_hz(self.stiffness.as_ref(), self.mass.as_ref())
     }
 
     /// The body with modal damping added: damping ratios `ratios` (one for

@@ -7,15 +7,17 @@
 //! (element rows `T_e`, eq. 25) need.
 //!
 //! Mode types live in [`modes`], one file each; the methods that combine them
-//! in [`method`].
+//! in [`method`]; the body in the floating frame of reference (elastic
+//! coordinates and mass invariants, what a SID file carries) in [`ffrf`].
 
 pub mod body;
 pub mod error;
+pub mod ffrf;
 pub mod method;
 pub mod modes;
 mod products;
 
-pub use body::{ModeKind, ReducedBody};
+pub use body::{natural_frequencies_hz, ModeKind, ReducedBody};
 pub use error::ReduceError;
 pub use method::{reduce, reduce_keeping, ForceGroup, GroundSpring, Keep, Method, Reduction};
 

@@ -1,0 +1,108 @@
+//! What the reduced-body files hold besides the body, computed before any
+//! writer of [`export`](crate::export) sees it: the SID content (the
+//! floating-frame invariants of [`reduce::ffrf`](crate::reduce::ffrf) and
+//! the recovery rows of [`recover::recovery_matrix`] in the elastic
+//! coordinates), the VTU file's mode fields (the body's eigenmodes and their
+//! nodal stresses), and the Matrix Market index's accuracy figures (from
+//! the comparison with the full model).
+
+use crate::export::mtx::Metadata;
+use crate::export::vtk::{check_mesh, ModeFields};
+use crate::export::{BodyOutput, ExportError, Format, Sid};
+use crate::fem::{FemError, Model, Substructure};
+use crate::recover::{self, ModalStress};
+use crate::reduce::ffrf::{FfrfError, FloatingFrame};
+use crate::reduce::ReducedBody;
+use crate::report::FrequencyComparison;
+use faer::Mat;
+
+/// Why the content of a body's file could not be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The body has no floating-frame description.
+    #[error(transparent)]
+    Ffrf(#[from] FfrfError),
+    /// The SID's recovery rows failed.
+    #[error("stress recovery: {0}")]
+    Recovery(FemError),
+    /// The reduced eigenproblem of the VTU's modes failed.
+    #[error("eigenmodes of the reduced body: {0}")]
+    Modes(crate::linalg::LinalgError),
+    /// The VTU's modal stresses failed.
+    #[error("modal stresses: {0}")]
+    ModalStress(FemError),
+    /// The body and the mesh do not fit together.
+    #[error(transparent)]
+    Export(#[from] ExportError),
+}
+
+/// What [`export::write`](crate::export::write) formats for `body`,
+/// reduced from `sub` (and `model`, the mesh if known), in `format`: the
+/// SID content for [`Format::Sid`] ([`sid`]), the node coordinates of `sub`
+/// and `metadata` for the Matrix Market index.
+pub fn body_output<'a>(
+    sub: &'a Substructure,
+    model: Option<&Model>,
+    body: &'a ReducedBody,
+    format: Format,
+    metadata: Metadata,
+) -> Result<BodyOutput<'a>, OutputError> {
+    let sid = match format {
+        Format::Sid => Some(sid(sub, model, body)?),
+        Format::Json | Format::Mtx => None,
+    };
+    Ok(BodyOutput {
+        body,
+        sub: Some(sub),
+        sid,
+        metadata,
+    })
+}
+
+/// The SID of `body`, reduced from `sub`: its floating frame (elastic
+/// coordinates and mass invariants from the mass matrix and node
+/// coordinates of `sub`) and, if `model` (the mesh) is known, its recovery
+/// rows `ksigma` in the elastic coordinates (stresses of solids, else
+/// section forces of beams).
+pub fn sid(
+    sub: &Substructure,
+    model: Option<&Model>,
+    body: &ReducedBody,
+) -> Result<Sid, OutputError> {
+    let frame = FloatingFrame::new(sub, body)?;
+    let ksigma = match model {
+        Some(model) => frame
+            .elastic
+            .elastic_rows(recover::recovery_matrix(model, body).map_err(OutputError::Recovery)?),
+        None => Mat::zeros(0, frame.nq()),
+    };
+    Ok(Sid::new(frame, ksigma))
+}
+
+/// The VTU file's fields of `body` on its mesh `model`: the eigenmodes of
+/// the reduced body (`K_red x = w^2 M_red x`, shapes `T x`, M-normalised)
+/// and their stresses averaged at the solids' nodes.
+pub fn mode_fields(model: &Model, body: &ReducedBody) -> Result<ModeFields, OutputError> {
+    check_mesh(model, body)?;
+    let modes = body.orthonormalized().map_err(OutputError::Modes)?;
+    let stress = ModalStress::new(model, &modes).map_err(OutputError::ModalStress)?;
+    Ok(ModeFields {
+        modes,
+        stress_nodes: stress.nodes,
+        stress: stress.matrices,
+    })
+}
+
+/// The accuracy figures of a Matrix Market index: the full model's
+/// frequencies, if computed, and the relative error of each reduced one
+/// (`relative frequency error, mode kk`).
+pub fn index_metadata(comparison: &FrequencyComparison) -> Metadata {
+    Metadata {
+        full_frequencies_hz: comparison.full_hz.clone(),
+        accuracy: comparison
+            .relative_errors()
+            .into_iter()
+            .map(|(k, e)| (format!("relative frequency error, mode {k:02}"), e))
+            .collect(),
+    }
+}
