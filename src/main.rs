@@ -109,11 +109,9 @@ enum Command {
         /// Print {"r":..,"full_hz":[..],"reduced_hz":[..]} instead of the table.
         #[arg(long)]
         json: bool,
-        /// Compare with the full model's lowest r frequencies: `auto` (up to
-        /// 20000 DOFs; one more eigen solve of the full model), `always` or
-        /// `never`.
-        #[arg(long, default_value = "auto", value_parser = ["auto", "always", "never"])]
-        check: String,
+        /// Compare with the full model's lowest r frequencies.
+        #[arg(long, value_enum, default_value_t = Check::Auto)]
+        check: Check,
     },
     /// Run the vehicle model of a model file in time ([simulation] table).
     Simulate {
@@ -262,7 +260,7 @@ fn run(cli: Cli) -> Result<()> {
             (modes, fmax),
             (&out, format, vtu.as_deref()),
             orthonormalize,
-            (json, &check),
+            (json, check),
         ),
         Command::Modes {
             model,
@@ -343,7 +341,7 @@ fn run_reduce(
     (modes, fmax): (usize, Option<f64>),
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
-    (json, check): (bool, &str),
+    (json, check): (bool, Check),
 ) -> Result<()> {
     // A wrong output path fails now, not after the reduction.
     match format {
@@ -369,11 +367,6 @@ fn run_reduce(
     };
     spec.max_frequency_hz = fmax;
     spec.orthonormalize = orthonormalize;
-    let check = match check {
-        "always" => Check::Always,
-        "never" => Check::Never,
-        _ => Check::Auto,
-    };
     let compare = check.compares(c.sub.len());
     // K and M are needed after the reduction only by the comparison, and
     // M by the SID's invariants; the solver drops what is not.

@@ -150,12 +150,14 @@ pub fn natural_frequencies(
 }
 
 /// Whether a reduction is compared with the full model's frequencies.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Check {
-    /// Up to [`Check::AUTO_UP_TO`] DOFs (the comparison is one more eigen
-    /// solve of the full model).
+    /// Models up to 20000 DOFs (the comparison is one more eigen solve of
+    /// the full model)
     Auto,
+    /// Models of any size
     Always,
+    /// No comparison
     Never,
 }
 
