@@ -270,10 +270,10 @@ fn run(cli: Cli) -> Result<()> {
             json,
         } => {
             let band = match fmax {
-                Some(f) if f.is_finite() && f > 0.0 => red::modes::Band::BelowHz(f),
+                Some(f) if f.is_finite() && f > 0.0 => red::modes::Wanted::below_hz(f),
                 Some(f) => anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}"),
                 None if count == 0 => anyhow::bail!("--count must be at least 1"),
-                None => red::modes::Band::Lowest(count),
+                None => red::modes::Wanted::Lowest(count),
             };
             run_modes(&model, &matrices, band, json)
         }
@@ -432,7 +432,7 @@ fn run_reduce(
 fn run_modes(
     model: &Path,
     matrices: &MatrixArgs,
-    band: red::modes::Band,
+    band: red::modes::Wanted,
     json: bool,
 ) -> Result<()> {
     let modes = report::natural_frequencies(load(model, matrices)?, band)?;

@@ -9,7 +9,7 @@
 use crate::fem::{DofKind, Substructure, Support};
 use crate::input::Component;
 use crate::linalg::{memory, ordering::Ordering, shift_invert::ShiftedPencil, LinalgError};
-use crate::reduce::modes::{eigenmodes, eigenmodes_owned, rigid_motion_count, Band, ZERO_GAP};
+use crate::reduce::modes::{eigenmodes, eigenmodes_owned, rigid_motion_count, Wanted, ZERO_GAP};
 use crate::reduce::{ReduceError, ReducedBody};
 use crate::study::{fmt_omega, StudyResult};
 use std::fmt;
@@ -123,11 +123,11 @@ pub struct NaturalFrequencies {
 /// solver, which drops them once it holds its compact copy.
 pub fn natural_frequencies(
     component: Component,
-    band: Band,
+    band: Wanted,
 ) -> Result<NaturalFrequencies, ReduceError> {
     let dofs = component.sub.len();
     let band = match band {
-        Band::Lowest(count) => Band::Lowest(count.min(dofs)),
+        Wanted::Lowest(count) => Wanted::Lowest(count.min(dofs)),
         other => other,
     };
     // A free body's rigid-body motions (eq. 12-13), against which its zero
@@ -216,7 +216,14 @@ pub fn compare_frequencies(
     let reduced_hz = body.frequencies_hz()?;
     let full_hz = if compare {
         let count = body.r().min(sub.len());
-        Some(eigenmodes(&sub.matrices.stiffness, &sub.matrices.mass, count)?.frequencies_hz())
+        Some(
+            eigenmodes(
+                &sub.matrices.stiffness,
+                &sub.matrices.mass,
+                Wanted::Lowest(count),
+            )?
+            .frequencies_hz(),
+        )
     } else {
         None
     };

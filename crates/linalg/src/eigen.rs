@@ -16,6 +16,23 @@ use faer::linalg::triangular_solve::{
 };
 use faer::{Conj, Mat, MatRef, Side};
 
+/// Which eigenpairs of `K phi = lambda M phi` to compute.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Wanted {
+    /// The lowest `n` eigenpairs.
+    Lowest(usize),
+    /// All eigenpairs with `lambda` below this bound (rad^2/s^2; a frequency
+    /// `f` in Hz is the bound `(2 pi f)^2`, [`Wanted::below_hz`]).
+    Below(f64),
+}
+
+impl Wanted {
+    /// Every eigenpair below the frequency `f` (Hz): `lambda < (2 pi f)^2`.
+    pub fn below_hz(f: f64) -> Self {
+        Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2))
+    }
+}
+
 /// Eigenvalues (ascending) and M-orthonormal eigenvectors (as columns).
 #[derive(Clone, Debug)]
 pub struct EigenPairs {

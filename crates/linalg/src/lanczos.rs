@@ -74,6 +74,7 @@
 //! `flexbody modes` prints.
 
 use crate::eigen::EigenPairs;
+use crate::eigen::Wanted;
 use crate::ordering::Ordering;
 use crate::progress::{Progress, Stage};
 use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
@@ -82,16 +83,6 @@ use crate::tall;
 use crate::{LinalgError, SparseMat};
 use faer::{ColRef, Mat, MatMut, MatRef, Side};
 use std::time::Instant;
-
-/// Which eigenpairs to compute.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub enum Wanted {
-    /// The lowest `n` eigenpairs.
-    Lowest(usize),
-    /// All eigenpairs with `lambda` below this bound (rad^2/s^2; a frequency
-    /// `f` in Hz is the bound `(2 pi f)^2`).
-    Below(f64),
-}
 
 /// Tuning of [`lanczos`].
 #[derive(Copy, Clone, Debug)]

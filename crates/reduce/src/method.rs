@@ -20,8 +20,8 @@ use crate::modes::fixed_interface::craig_bampton_modes_from;
 use crate::modes::free_interface::inertia_relief_and_free_modes_from;
 use crate::modes::zero_modes::{check_zeros, count_zeros, ZERO_GAP};
 use crate::modes::{
-    self, eigenmodes, rigid_body_modes, statically_determinate_support, unit_loads, Band,
-    RigidModes,
+    self, eigenmodes, rigid_body_modes, statically_determinate_support, unit_loads, RigidModes,
+    Wanted,
 };
 use crate::products::Matrices;
 use crate::ReduceError;
@@ -280,19 +280,19 @@ fn reduce_from(
     // The eigenmodes each method takes: a count, or the band below fmax
     // (found in one solve on the problem the method uses).
     let band = |extra: usize| match spec.max_frequency_hz {
-        None => Band::Lowest(spec.modes + extra),
-        Some(f) => Band::BelowHz(f),
+        None => Wanted::Lowest(spec.modes + extra),
+        Some(f) => Wanted::below_hz(f),
     };
     let (basis, kinds, products) = match spec.method {
         Method::Free => {
-            if band(0) == Band::Lowest(0) {
+            if band(0) == Wanted::Lowest(0) {
                 return Err(ReduceError::NoModes);
             }
             // One eigenmode beyond the rigid-body modes at least: a
             // mechanism's zero would be the next (eq. 12-13 give nr).
             let (nr, n) = (rigid.count(), sub.len());
             let wanted = match band(0) {
-                Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
+                Wanted::Lowest(count) => Wanted::Lowest(count.max(nr + 1).min(n)),
                 within => within,
             };
             let (mut phi, _, products) = eigenmodes_from(matrices, wanted)?;
@@ -305,7 +305,7 @@ fn reduce_from(
                 let next = products.lowest_eigenvalues(nr + 1)?;
                 check_zeros(&next, nr, n, |c| products.lowest_eigenvalues(c))?;
             }
-            if let Band::Lowest(count) = band(0) {
+            if let Wanted::Lowest(count) = band(0) {
                 phi = phi.slice(0, count.min(phi.values.len()));
             }
             let kinds = phi
@@ -320,7 +320,7 @@ fn reduce_from(
                 return Err(ReduceError::GuyanWithModes(spec.modes));
             }
             let band = match spec.method {
-                Method::Guyan => Band::Lowest(0),
+                Method::Guyan => Wanted::Lowest(0),
                 _ => band(0),
             };
             let (psi, phi, products) =
@@ -384,8 +384,8 @@ fn reduce_from(
                 products.lowest_eigenvalues(c)
             })?;
             let e = match band(nr) {
-                Band::Lowest(_) => spec.modes,
-                Band::BelowHz(_) => all.values.len().saturating_sub(nr),
+                Wanted::Lowest(_) => spec.modes,
+                Wanted::Below(_) => all.values.len().saturating_sub(nr),
             };
             if all.values.len() < nr + e {
                 return Err(ReduceError::NotEnoughModes {
@@ -533,13 +533,19 @@ pub fn free_body_rigid_modes(sub: &Substructure) -> Result<RigidModes, ReduceErr
 /// below a gap of [`ZERO_GAP`] to the next eigenvalue, at most six.
 fn null_space_modes(sub: &Substructure) -> Result<RigidModes, ReduceError> {
     let n = sub.len();
-    let pairs = eigenmodes(&sub.matrices.stiffness, &sub.matrices.mass, n.min(7))?;
+    let pairs = eigenmodes(
+        &sub.matrices.stiffness,
+        &sub.matrices.mass,
+        Wanted::Lowest(n.min(7)),
+    )?;
     let v = &pairs.values;
     let top = v.last().copied().unwrap_or(0.0);
     let count = leading_zeros(v, top, ZERO_GAP);
     if count == 7 {
         let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
-        let zero = count_zeros(v.clone(), n, |c| Ok(eigenmodes(k, m, c)?.values))?;
+        let zero = count_zeros(v.clone(), n, |c| {
+            Ok(eigenmodes(k, m, Wanted::Lowest(c))?.values)
+        })?;
         return Err(ReduceError::FreeMechanism { zero, rigid: 6 });
     }
     Ok(RigidModes {

@@ -12,7 +12,7 @@
 //! interface ([`Products::Bordered`]). A caller that needs `M` afterwards
 //! (the SID's mass invariants) hands over `K` alone, 1.2 GiB of that solid.
 
-use crate::modes::eigen::{eigenmodes, eigenmodes_on, Band};
+use crate::modes::eigen::{eigenmodes, eigenmodes_on, Wanted};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_linalg::shift_invert::ShiftedPencil;
@@ -172,9 +172,11 @@ impl Products<'_> {
     /// is not the free body's.
     pub(crate) fn lowest_eigenvalues(&self, count: usize) -> Result<Vec<f64>, ReduceError> {
         match self {
-            Products::Full(matrices) => Ok(eigenmodes(matrices.k(), matrices.m(), count)?.values),
+            Products::Full(matrices) => {
+                Ok(eigenmodes(matrices.k(), matrices.m(), Wanted::Lowest(count))?.values)
+            }
             Products::Pencil(pencil) => {
-                Ok(eigenmodes_on(pencil, None, Band::Lowest(count), None)?.values)
+                Ok(eigenmodes_on(pencil, None, Wanted::Lowest(count), None, None)?.values)
             }
             Products::Bordered(_) | Products::Sprung(_) => Ok(Vec::new()),
         }

@@ -226,7 +226,7 @@ fn residual_modes_are_m_and_k_orthogonal_to_the_kept_eigenmodes() {
     let support = statically_determinate_support(&rigid, &[0, 1]);
     let t = inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &support, map)
         .unwrap();
-    let phi = eigenmodes(&s.stiffness, &s.mass, 5)
+    let phi = eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(5))
         .unwrap()
         .slice(2, 5)
         .vectors;

@@ -16,9 +16,9 @@
 use super::{complement, expand};
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
-use faer::{Mat, MatRef};
+use faer::Mat;
 use flexbody_linalg::eigen::{ensure_dense_room, generalized_symmetric};
-use flexbody_linalg::lanczos::{lanczos, lanczos_on, Held, LanczosParams, SparseEigen, Wanted};
+use flexbody_linalg::lanczos::{lanczos, lanczos_on, Held, LanczosParams, SparseEigen};
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
@@ -51,64 +51,32 @@ pub enum EigenSolver {
     Sparse,
 }
 
-/// Which eigenpairs a reduction takes.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub enum Band {
-    /// The lowest `n`.
-    Lowest(usize),
-    /// Every one below this frequency (Hz): the report's modes in the
-    /// excitation band, counted by the Sturm sequence.
-    BelowHz(f64),
-}
+/// Which eigenpairs a reduction takes: the lowest `n`, or every one below
+/// a bound ([`Wanted::below_hz`]: the report's modes in the excitation
+/// band, counted by the Sturm sequence).
+pub use flexbody_linalg::eigen::Wanted;
 
-/// The lowest `count` eigenpairs of `K phi = lambda M phi`.
+/// The `wanted` eigenpairs of `K phi = lambda M phi`, by the solver
+/// [`EigenSolver::Auto`] picks: one eigen solve either way (for a frequency
+/// bound the sparse solver counts by the Sturm sequence first).
 pub fn eigenmodes(
     stiffness: &SparseMat,
     mass: &SparseMat,
-    count: usize,
+    wanted: Wanted,
 ) -> Result<EigenModes, ReduceError> {
-    eigenmodes_with(stiffness, mass, count, EigenSolver::Auto)
+    eigenmodes_with(stiffness, mass, wanted, EigenSolver::Auto)
 }
 
-/// The eigenpairs of `band`: one eigen solve either way (for a frequency
-/// bound the sparse solver counts by the Sturm sequence first).
-pub fn eigenmodes_in(
-    stiffness: &SparseMat,
-    mass: &SparseMat,
-    band: Band,
-) -> Result<EigenModes, ReduceError> {
-    let limit = match band {
-        Band::Lowest(count) => return eigenmodes(stiffness, mass, count),
-        Band::BelowHz(f) => (2.0 * std::f64::consts::PI * f).powi(2),
-    };
-    let n = stiffness.nrows();
-    if n >= SPARSE_FROM {
-        let progress = flexbody_linalg::progress::global();
-        let found = lanczos(
-            stiffness,
-            mass,
-            Wanted::Below(limit),
-            &LanczosParams::default(),
-            &*progress,
-        )?;
-        return Ok(found.pairs);
-    }
-    // Every finite eigenvalue: fewer than n where DOFs carry no mass.
-    let all = dense_all(stiffness, mass)?;
-    let below = all.values.iter().filter(|l| **l < limit).count();
-    Ok(all.slice(0, below))
-}
-
-/// [`eigenmodes_in`] for a caller that needs `K` and `M` no more, with
+/// [`eigenmodes`] for a caller that needs `K` and `M` no more, with
 /// each mode's residual `||K phi - lambda M phi|| / ||K phi||` (as
 /// [`flexbody_linalg::lanczos::residuals`] defines it). The sparse solver
 /// keeps a compact copy of both (their lower triangles on one pattern) and
 /// drops `stiffness` and `mass` before it factorises: at 3e5 DOFs the peak
-/// memory is 0.5 GB lower than with [`eigenmodes_in`].
+/// memory is 0.5 GB lower than with [`eigenmodes`].
 pub fn eigenmodes_owned(
     stiffness: SparseMat,
     mass: SparseMat,
-    band: Band,
+    band: Wanted,
 ) -> Result<(EigenModes, Vec<f64>), ReduceError> {
     let (modes, residuals, _) = eigenmodes_from(Matrices::given(stiffness, mass), band)?;
     Ok((modes, residuals))
@@ -119,12 +87,12 @@ pub fn eigenmodes_owned(
 /// on the sparse path).
 pub(crate) fn eigenmodes_from(
     matrices: Matrices<'_>,
-    band: Band,
+    band: Wanted,
 ) -> Result<(EigenModes, Vec<f64>, Products<'_>), ReduceError> {
     let n = matrices.k().nrows();
-    if dense_path(n, band) || band == Band::Lowest(0) {
+    if dense_path(n, band) || band == Wanted::Lowest(0) {
         let (stiffness, mass) = (matrices.k(), matrices.m());
-        let modes = eigenmodes_in(stiffness, mass, band)?;
+        let modes = eigenmodes(stiffness, mass, band)?;
         let residuals = flexbody_linalg::lanczos::residuals(
             stiffness,
             mass,
@@ -134,7 +102,7 @@ pub(crate) fn eigenmodes_from(
         );
         return Ok((modes, residuals, Products::Full(matrices)));
     }
-    if let Band::Lowest(count) = band {
+    if let Wanted::Lowest(count) = band {
         if count > n {
             return Err(ReduceError::NotEnoughModes {
                 requested: count,
@@ -150,12 +118,12 @@ pub(crate) fn eigenmodes_from(
     Ok((found.pairs, found.residuals, Products::Pencil(pencil)))
 }
 
-/// Whether [`eigenmodes_in`] takes the dense solver for `band` of an
+/// Whether [`eigenmodes`] takes the dense solver for `band` of an
 /// `n`-DOF model.
-pub(crate) fn dense_path(n: usize, band: Band) -> bool {
+pub(crate) fn dense_path(n: usize, band: Wanted) -> bool {
     match band {
-        Band::Lowest(count) => dense_for(n, count),
-        Band::BelowHz(_) => n < SPARSE_FROM,
+        Wanted::Lowest(count) => dense_for(n, count),
+        Wanted::Below(_) => n < SPARSE_FROM,
     }
 }
 
@@ -169,11 +137,11 @@ fn dense_for(n: usize, count: usize) -> bool {
 pub fn eigenmodes_with(
     stiffness: &SparseMat,
     mass: &SparseMat,
-    count: usize,
+    wanted: Wanted,
     solver: EigenSolver,
 ) -> Result<EigenModes, ReduceError> {
     let n = stiffness.nrows();
-    if count == 0 {
+    if wanted == Wanted::Lowest(0) {
         return Ok(EigenModes {
             values: vec![],
             vectors: Mat::zeros(n, 0),
@@ -182,39 +150,48 @@ pub fn eigenmodes_with(
     let dense = match solver {
         EigenSolver::Dense => true,
         EigenSolver::Sparse => false,
-        EigenSolver::Auto => dense_for(n, count),
+        EigenSolver::Auto => dense_path(n, wanted),
     };
     if !dense {
-        if count > n {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: n,
-            });
+        if let Wanted::Lowest(count) = wanted {
+            if count > n {
+                return Err(ReduceError::NotEnoughModes {
+                    requested: count,
+                    available: n,
+                });
+            }
         }
         let progress = flexbody_linalg::progress::global();
         let found = lanczos(
             stiffness,
             mass,
-            Wanted::Lowest(count),
+            wanted,
             &LanczosParams::default(),
             &*progress,
         )?;
-        if found.pairs.values.len() < count {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: found.pairs.values.len(),
-            });
+        if let Wanted::Lowest(count) = wanted {
+            if found.pairs.values.len() < count {
+                return Err(ReduceError::NotEnoughModes {
+                    requested: count,
+                    available: found.pairs.values.len(),
+                });
+            }
         }
         return Ok(found.pairs);
     }
+    // Every finite eigenvalue: fewer than n where DOFs carry no mass.
     let pairs = dense_all(stiffness, mass)?;
     let available = pairs.values.len();
-    if count > available {
-        return Err(ReduceError::NotEnoughModes {
-            requested: count,
-            available,
-        });
-    }
+    let count = match wanted {
+        Wanted::Lowest(count) if count > available => {
+            return Err(ReduceError::NotEnoughModes {
+                requested: count,
+                available,
+            })
+        }
+        Wanted::Lowest(count) => count,
+        Wanted::Below(limit) => pairs.values.iter().filter(|l| **l < limit).count(),
+    };
     Ok(pairs.slice(0, count))
 }
 
@@ -244,29 +221,20 @@ fn dense_all(stiffness: &SparseMat, mass: &SparseMat) -> Result<EigenModes, Redu
 /// The eigenpairs of `band` by the Lanczos solver on a pencil the caller
 /// has analysed (and may have used for static modes): `factor`, a factor
 /// of it no longer needed, becomes the operator or lends its storage.
+///
+/// For a free body, `held` gives the operator on a statically determinate
+/// support ([`Held`]): `factor` is then the held factor the inertia-relief
+/// attachment modes were solved with, which serves the Lanczos run too
+/// (shift 0), and the rigid-body modes (M-orthonormal) are among the modes
+/// returned.
 pub fn eigenmodes_on(
     pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
-    band: Band,
+    band: Wanted,
     shift: Option<f64>,
+    held: Option<Held<'_>>,
 ) -> Result<EigenModes, ReduceError> {
-    Ok(lanczos_band(pencil, factor, band, shift, None)?.pairs)
-}
-
-/// [`eigenmodes_on`] for a free body through its operator on a statically
-/// determinate support ([`Held`]): `factor` the held factor the
-/// inertia-relief attachment modes were solved with, which then serves the
-/// Lanczos run too (shift 0); the rigid-body modes `rigid` (M-orthonormal)
-/// are among the modes returned.
-pub fn free_eigenmodes_on(
-    pencil: &ShiftedPencil,
-    factor: ShiftedFactor,
-    band: Band,
-    support: &[usize],
-    rigid: MatRef<'_, f64>,
-) -> Result<EigenModes, ReduceError> {
-    let held = Held { support, rigid };
-    Ok(lanczos_band(pencil, Some(factor), band, None, Some(held))?.pairs)
+    Ok(lanczos_band(pencil, factor, band, shift, held)?.pairs)
 }
 
 /// The Lanczos solve of [`eigenmodes_on`] with its residuals; fewer modes
@@ -274,21 +242,17 @@ pub fn free_eigenmodes_on(
 fn lanczos_band(
     pencil: &ShiftedPencil,
     factor: Option<ShiftedFactor>,
-    band: Band,
+    band: Wanted,
     shift: Option<f64>,
     held: Option<Held<'_>>,
 ) -> Result<SparseEigen, ReduceError> {
-    let wanted = match band {
-        Band::Lowest(count) => Wanted::Lowest(count),
-        Band::BelowHz(f) => Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2)),
-    };
     let params = LanczosParams {
         shift,
         ..Default::default()
     };
     let progress = flexbody_linalg::progress::global();
-    let found = lanczos_on(pencil, factor, wanted, held, &params, &*progress)?;
-    if let Band::Lowest(count) = band {
+    let found = lanczos_on(pencil, factor, band, held, &params, &*progress)?;
+    if let Wanted::Lowest(count) = band {
         if found.pairs.values.len() < count {
             return Err(ReduceError::NotEnoughModes {
                 requested: count,
@@ -304,20 +268,10 @@ pub fn fixed_interface_eigenmodes(
     stiffness: &SparseMat,
     mass: &SparseMat,
     boundary: &[usize],
-    count: usize,
-) -> Result<EigenModes, ReduceError> {
-    fixed_interface_eigenmodes_in(stiffness, mass, boundary, Band::Lowest(count))
-}
-
-/// [`fixed_interface_eigenmodes`] for a [`Band`].
-pub fn fixed_interface_eigenmodes_in(
-    stiffness: &SparseMat,
-    mass: &SparseMat,
-    boundary: &[usize],
-    band: Band,
+    band: Wanted,
 ) -> Result<EigenModes, ReduceError> {
     let n = stiffness.nrows();
-    if band == Band::Lowest(0) {
+    if band == Wanted::Lowest(0) {
         return Ok(EigenModes {
             values: vec![],
             vectors: Mat::zeros(n, 0),
@@ -326,7 +280,7 @@ pub fn fixed_interface_eigenmodes_in(
     let interior = complement(boundary, n);
     let k = sparse::submatrix(stiffness, &interior, &interior);
     let m = sparse::submatrix(mass, &interior, &interior);
-    let modes = eigenmodes_in(&k, &m, band)?;
+    let modes = eigenmodes(&k, &m, band)?;
     Ok(EigenModes {
         vectors: expand(&modes.vectors, &interior, n),
         values: modes.values,

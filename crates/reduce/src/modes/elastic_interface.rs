@@ -22,7 +22,7 @@
 
 use super::attachment::unit_loads;
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
-use super::eigen::{dense_path, eigenmodes_in, eigenmodes_on, Band};
+use super::eigen::{dense_path, eigenmodes, eigenmodes_on, Wanted};
 use super::{complement, EigenModes, RigidModes};
 use crate::products::{Matrices, Products, Sprung};
 use crate::ReduceError;
@@ -43,7 +43,7 @@ pub fn elastic_residual_modes(
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
     let (psi, phi, _) =
@@ -60,14 +60,14 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
     if dense_path(n, band) || !on_equations(&springs, boundary) {
         let (k, m) = (matrices.k(), matrices.m());
         let supported = sparse::add_scaled(k, 1.0, &springs)?;
-        let phi = eigenmodes_in(&supported, m, band)?;
+        let phi = eigenmodes(&supported, m, band)?;
         let psi = constraint_modes(k, boundary, dof_map, rigid)?;
         return Ok((psi, phi, Products::Full(matrices)));
     }
@@ -80,7 +80,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     drop(matrices);
     let sprung = Sprung { pencil, springs };
     let pencil = &sprung.pencil;
-    if band == Band::Lowest(0) {
+    if band == Wanted::Lowest(0) {
         // The constraint modes alone: K_NN is the one factorisation.
         let (psi, _) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
         let phi = EigenModes {
@@ -97,7 +97,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     let (psi, phi) = match regular {
         Some(factor) => {
             let psi = constraint_modes_by_flexibility(pencil, &factor, boundary, &interior);
-            let phi = eigenmodes_on(pencil, Some(factor), band, Some(0.0))?;
+            let phi = eigenmodes_on(pencil, Some(factor), band, Some(0.0), None)?;
             let psi = match psi {
                 Some(psi) => psi,
                 // Springs so soft that the flexibility lost the interior
@@ -109,7 +109,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
         None => {
             let (psi, held) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
             // The held factor lends its storage to the shifted one.
-            (psi, eigenmodes_on(pencil, Some(held), band, None)?)
+            (psi, eigenmodes_on(pencil, Some(held), band, None, None)?)
         }
     };
     Ok((psi, phi, Products::Sprung(Box::new(sprung))))

@@ -10,7 +10,7 @@
 //! without the Lanczos run. Small models take the separate dense path.
 
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
-use super::eigen::{dense_path, eigenmodes_on, fixed_interface_eigenmodes_in, Band};
+use super::eigen::{dense_path, eigenmodes_on, fixed_interface_eigenmodes, Wanted};
 use super::{complement, expand, EigenModes, RigidModes};
 use crate::products::{Bordered, Matrices, Products};
 use crate::ReduceError;
@@ -29,7 +29,7 @@ pub fn craig_bampton_modes(
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
     let (psi, phi, _) = craig_bampton_modes_from(matrices, boundary, dof_map, rigid, band)?;
@@ -44,7 +44,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
@@ -53,7 +53,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
         let (stiffness, mass) = (matrices.k(), matrices.m());
         return Ok((
             constraint_modes(stiffness, boundary, dof_map, rigid)?,
-            fixed_interface_eigenmodes_in(stiffness, mass, boundary, band)?,
+            fixed_interface_eigenmodes(stiffness, mass, boundary, band)?,
             Products::Full(matrices),
         ));
     }
@@ -86,13 +86,13 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     k_factor.solve_in_place(u_n.as_mut());
     let psi = constraint_columns(n, boundary, interior, &u_n);
     // Guyan's static condensation takes the constraint modes alone.
-    let phi = if band == Band::Lowest(0) {
+    let phi = if band == Wanted::Lowest(0) {
         EigenModes {
             vectors: Mat::zeros(n, 0),
             values: vec![],
         }
     } else {
-        let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0))?;
+        let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0), None)?;
         EigenModes {
             vectors: expand(&found.vectors, interior, n),
             values: found.values,

@@ -14,9 +14,7 @@
 //! Small models take the separate dense path.
 
 use super::attachment::SUPPORTED_BODY;
-use super::eigen::{
-    dense_path, eigenmodes, eigenmodes_in, eigenmodes_on, free_eigenmodes_on, Band,
-};
+use super::eigen::{dense_path, eigenmodes, eigenmodes_on, Wanted};
 use super::inertia_relief::{
     check_support, inertia_relief_attachment_modes, relieved_modes, SUPPORTED,
 };
@@ -26,6 +24,7 @@ use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
+use flexbody_linalg::lanczos::Held;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::ShiftedPencil;
@@ -41,7 +40,7 @@ pub fn inertia_relief_and_free_modes(
     loads: &Mat<f64>,
     support: &[usize],
     dof_map: &DofMap,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
     let (t_a, all, _) =
@@ -58,11 +57,11 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     loads: &Mat<f64>,
     support: &[usize],
     dof_map: &DofMap,
-    band: Band,
+    band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let (n, nr) = (matrices.k().nrows(), rigid.count());
-    let at_least = |band: Band| match band {
-        Band::Lowest(count) => Band::Lowest(count.max(nr + 1).min(n)),
+    let at_least = |band: Wanted| match band {
+        Wanted::Lowest(count) => Wanted::Lowest(count.max(nr + 1).min(n)),
         within => within,
     };
     // Small models, and a quarter of all modes or more: dense.
@@ -70,15 +69,15 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         let (stiffness, mass) = (matrices.k(), matrices.m());
         let t_a = inertia_relief_attachment_modes(stiffness, mass, rigid, loads, support, dof_map)
             .map_err(|e| match e {
-                held @ ReduceError::Singular { .. } => {
-                    mechanism_or(held, nr, n, |c| Ok(eigenmodes(stiffness, mass, c)?.values))
-                }
+                held @ ReduceError::Singular { .. } => mechanism_or(held, nr, n, |c| {
+                    Ok(eigenmodes(stiffness, mass, Wanted::Lowest(c))?.values)
+                }),
                 other => other,
             })?;
-        let mut all = eigenmodes_in(stiffness, mass, at_least(band))?;
+        let mut all = eigenmodes(stiffness, mass, at_least(band))?;
         if all.values.len() <= nr && all.values.len() < n {
             // A band without elastic modes: the gap check needs one.
-            all = eigenmodes(stiffness, mass, (nr + 1).min(n))?.slice(0, nr);
+            all = eigenmodes(stiffness, mass, Wanted::Lowest((nr + 1).min(n)))?.slice(0, nr);
         }
         return Ok((t_a, all, Products::Full(matrices)));
     }
@@ -104,7 +103,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         });
         let mut t_a = loads.clone();
         factor.solve_in_place(t_a.as_mut());
-        let all = eigenmodes_on(&pencil, Some(factor), at_least(band), Some(0.0))?;
+        let all = eigenmodes_on(&pencil, Some(factor), at_least(band), Some(0.0), None)?;
         return Ok((t_a, all, Products::Pencil(pencil)));
     }
     let held = pencil
@@ -116,7 +115,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
                     dof: dof_map.dof(index),
                 };
                 mechanism_or(held, nr, n, |c| {
-                    Ok(eigenmodes_on(&pencil, None, Band::Lowest(c), None)?.values)
+                    Ok(eigenmodes_on(&pencil, None, Wanted::Lowest(c), None, None)?.values)
                 })
             }
             other => other.into(),
@@ -138,16 +137,14 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
             p_g
         },
     )?;
-    let mut all = free_eigenmodes_on(
-        &pencil,
-        held,
-        at_least(band),
+    let held_at = Held {
         support,
-        rigid.vectors.as_ref(),
-    )?;
+        rigid: rigid.vectors.as_ref(),
+    };
+    let mut all = eigenmodes_on(&pencil, Some(held), at_least(band), None, Some(held_at))?;
     if all.values.len() <= nr && all.values.len() < n {
         // A band without elastic modes: the gap check needs one.
-        all = eigenmodes_on(&pencil, None, Band::Lowest(nr + 1), None)?.slice(0, nr);
+        all = eigenmodes_on(&pencil, None, Wanted::Lowest(nr + 1), None, None)?.slice(0, nr);
     }
     Ok((t_a, all, Products::Pencil(pencil)))
 }

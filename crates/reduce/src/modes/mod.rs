@@ -14,8 +14,7 @@ pub(crate) mod zero_modes;
 pub use attachment::{attachment_modes, unit_loads};
 pub use constraint::constraint_modes;
 pub use eigen::{
-    eigenmodes, eigenmodes_in, eigenmodes_owned, fixed_interface_eigenmodes,
-    fixed_interface_eigenmodes_in, Band, EigenModes, DENSE_LIMIT,
+    eigenmodes, eigenmodes_owned, fixed_interface_eigenmodes, EigenModes, Wanted, DENSE_LIMIT,
 };
 pub use elastic_interface::elastic_residual_modes;
 pub use fixed_interface::craig_bampton_modes;

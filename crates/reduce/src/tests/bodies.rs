@@ -79,7 +79,7 @@ fn free_residual_frequencies_bound_the_full_model_from_above() {
         &Reduction::new(Method::FreeResidual, 2, uz(&[1, 21, 7, 15])),
     )
     .unwrap();
-    let full = eigenmodes(&s.stiffness, &s.mass, body.r())
+    let full = eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(body.r()))
         .unwrap()
         .frequencies_hz();
     let red = body.frequencies_hz().unwrap();
@@ -103,7 +103,7 @@ fn a_basis_as_large_as_the_model_is_exact_and_a_larger_one_refused() {
     let s = assemble(&model).unwrap();
     let n = s.stiffness.nrows();
     assert_eq!(n, 10);
-    let full = eigenmodes(&s.stiffness, &s.mass, n)
+    let full = eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(n))
         .unwrap()
         .frequencies_hz();
     for (method, others) in [(Method::FreeResidual, 4), (Method::CraigBampton, 2)] {

@@ -4,7 +4,8 @@
 use crate::models::*;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind, Substructure};
-use flexbody_linalg::lanczos::{lanczos, LanczosParams, Wanted};
+use flexbody_linalg::eigen::Wanted;
+use flexbody_linalg::lanczos::{lanczos, LanczosParams};
 use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::sparse;
 use flexbody_reduce::modes::eigen::{eigenmodes_with, EigenSolver, SPARSE_FROM};
@@ -15,8 +16,8 @@ fn sparse_path_equals_dense_on_a_solid_bar() {
     // 10 x 3 x 3 C3D8: 528 DOFs, free; 20 modes (6 rigid).
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
-    let sparse = eigenmodes_with(k, m, 20, EigenSolver::Sparse).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
+    let sparse = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Sparse).unwrap();
     assert_close(&sparse.values, &dense.values, 1e-10);
     // The same modes: |phi_s^T M phi_d| = 1 on the simple elastic ones.
     let overlap = sparse.vectors.transpose() * m * &dense.vectors;
@@ -34,18 +35,18 @@ fn sparse_path_equals_dense_on_a_solid_bar() {
 /// round-off, for a count and for a band.
 #[test]
 fn owned_matrices_give_the_same_modes_and_their_residuals() {
-    use flexbody_reduce::modes::eigen::{eigenmodes_owned, Band};
+    use flexbody_reduce::modes::eigen::{eigenmodes_owned, Wanted};
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
-    let (modes, residuals) = eigenmodes_owned(k.clone(), m.clone(), Band::Lowest(20)).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
+    let (modes, residuals) = eigenmodes_owned(k.clone(), m.clone(), Wanted::Lowest(20)).unwrap();
     assert_close(&modes.values, &dense.values, 1e-10);
     assert_eq!(residuals.len(), 20);
     assert!(residuals.iter().all(|r| *r < 1e-8), "{residuals:?}");
     // The band up to midway between modes 12 and 13: exactly 12 modes.
     let v = &dense.values;
     let hz = 0.5 * (v[11].sqrt() + v[12].sqrt()) / (2.0 * std::f64::consts::PI);
-    let (band, _) = eigenmodes_owned(k.clone(), m.clone(), Band::BelowHz(hz)).unwrap();
+    let (band, _) = eigenmodes_owned(k.clone(), m.clone(), Wanted::below_hz(hz)).unwrap();
     assert_close(&band.values, &dense.values[..12], 1e-10);
 }
 
@@ -57,7 +58,7 @@ fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
     let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
     assert!(s.len() >= SPARSE_FROM);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, 40, EigenSolver::Dense)
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), EigenSolver::Dense)
         .unwrap()
         .values;
     let count = (24..40)
@@ -80,7 +81,7 @@ fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
     assert_eq!(sturm.found, count);
     assert_close(&found.pairs.values, &dense[..count], 1e-10);
     // Auto takes the sparse path here and agrees.
-    let auto = flexbody_reduce::modes::eigenmodes(k, m, count).unwrap();
+    let auto = flexbody_reduce::modes::eigenmodes(k, m, Wanted::Lowest(count)).unwrap();
     assert_close(&auto.values, &dense[..count], 1e-10);
     let g: Mat<f64> = auto.vectors.transpose() * m * &auto.vectors;
     for i in 0..count {
@@ -199,10 +200,10 @@ fn time_dense_against_sparse() {
         let s = block(nx, ny, nz, [1.0, 0.2, 0.2], false);
         let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
         let t = std::time::Instant::now();
-        let d = eigenmodes_with(k, m, 20, EigenSolver::Dense).unwrap();
+        let d = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
         let td = t.elapsed().as_secs_f64();
         let t = std::time::Instant::now();
-        let sp = eigenmodes_with(k, m, 20, EigenSolver::Sparse).unwrap();
+        let sp = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Sparse).unwrap();
         let ts = t.elapsed().as_secs_f64();
         let err = d
             .values
@@ -249,7 +250,7 @@ fn a_stalled_run_finishes_on_shifts_above_the_band() {
     let g: Mat<f64> = x.transpose() * m * x;
     let dev = (&g - Mat::<f64>::identity(count, count)).norm_max();
     assert!(dev < 1e-12, "{dev:e}");
-    let dense = eigenmodes_with(k, m, count, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-9);
     // The band up to midway between modes 140 and 141: counted first, then
     // the stalled run finishes on a factor at the band's bound.
@@ -290,7 +291,7 @@ fn a_slow_run_on_a_small_basis_accepts_no_mode_above_its_floor() {
     );
     let worst = found.residuals.iter().copied().fold(0.0, f64::max);
     assert!(worst < 1e-7, "{:?}", found.residuals);
-    let dense = eigenmodes_with(k, m, count, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-9);
 }
 
@@ -311,7 +312,7 @@ fn sweeps_before_the_first_restart_are_no_stall() {
     assert!(found.stats.restarts > 0, "{:?}", found.stats);
     assert_eq!(found.stats.runs, 1, "{sturm:?}");
     assert_eq!(sturm.found_first, sturm.count, "{sturm:?}");
-    let dense = eigenmodes_with(k, m, count, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-10);
 }
 
@@ -327,7 +328,9 @@ fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
     let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
     let n = k.nrows();
-    let dense = eigenmodes_with(k, m, n, EigenSolver::Dense).unwrap().values;
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(n), EigenSolver::Dense)
+        .unwrap()
+        .values;
     let params = LanczosParams::default();
     let ascending = |v: &[f64]| v.windows(2).all(|w| w[0] <= w[1]);
     // The first count from 600 on that ends a cluster of equal frequencies.
@@ -374,7 +377,7 @@ fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
 fn a_band_bounded_on_an_eigenvalue_is_no_error() {
     let s = block(40, 2, 2, [2.0, 0.05, 0.05], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, 40, EigenSolver::Dense)
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), EigenSolver::Dense)
         .unwrap()
         .values;
     let params = LanczosParams::default();
@@ -394,7 +397,7 @@ fn a_band_bounded_on_an_eigenvalue_is_no_error() {
 #[test]
 fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
     use faer::linalg::solvers::Solve;
-    use flexbody_reduce::modes::{eigenmodes, eigenmodes_in, Band};
+    use flexbody_reduce::modes::{eigenmodes, Wanted};
     let s = bar_of_densities(2, |e| if e == 0 { 7850.0 } else { 0.0 });
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
     let n = s.len();
@@ -420,7 +423,7 @@ fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
     )
     .unwrap()
     .values;
-    let got = eigenmodes_in(k, m, Band::BelowHz(1e9)).unwrap().values;
+    let got = eigenmodes(k, m, Wanted::below_hz(1e9)).unwrap().values;
     assert_eq!(got.len(), 24);
     let top = want[23];
     for (g, w) in got.iter().zip(&want) {
@@ -429,7 +432,7 @@ fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
             "{g} vs {w}"
         );
     }
-    match eigenmodes(k, m, 30) {
+    match eigenmodes(k, m, Wanted::Lowest(30)) {
         Err(ReduceError::NotEnoughModes {
             requested: 30,
             available: 24,
@@ -439,7 +442,8 @@ fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
     // No mass at all: 36 DOFs (dense) and 372 (Lanczos).
     for nx in [2, 30] {
         let s = bar_of_densities(nx, |_| 0.0);
-        let err = eigenmodes(&s.matrices.stiffness, &s.matrices.mass, 6).unwrap_err();
+        let err =
+            eigenmodes(&s.matrices.stiffness, &s.matrices.mass, Wanted::Lowest(6)).unwrap_err();
         assert!(err.to_string().contains("the mass matrix is zero"), "{err}");
     }
 }
@@ -452,7 +456,7 @@ fn massless_dofs_have_no_eigenvalue_and_a_band_gives_the_finite_ones() {
 fn an_indefinite_stiffness_is_refused_on_both_paths() {
     use faer::sparse::Triplet;
     use flexbody_linalg::LinalgError;
-    use flexbody_reduce::modes::{eigenmodes, eigenmodes_in, Band};
+    use flexbody_reduce::modes::{eigenmodes, Wanted};
     for n in [40, 400] {
         let spring = |i: usize| if i == n / 2 { -3e4 } else { 1e4 };
         let mut t = Vec::new();
@@ -467,8 +471,8 @@ fn an_indefinite_stiffness_is_refused_on_both_paths() {
         let ones: Vec<_> = (0..n).map(|i| Triplet::new(i, i, 1.0)).collect();
         let m = sparse::from_triplets(n, n, &ones).unwrap();
         for result in [
-            eigenmodes(&k, &m, 5),
-            eigenmodes_in(&k, &m, Band::BelowHz(1.0)),
+            eigenmodes(&k, &m, Wanted::Lowest(5)),
+            eigenmodes(&k, &m, Wanted::below_hz(1.0)),
         ] {
             match result {
                 Err(ReduceError::Linalg(LinalgError::NotSemiDefinite { count: 1, .. })) => {}

@@ -4,7 +4,7 @@ use crate::models::*;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind};
 use flexbody_linalg::sparse;
-use flexbody_reduce::modes::eigen::{eigenmodes_with, EigenSolver, SPARSE_FROM};
+use flexbody_reduce::modes::eigen::{eigenmodes_with, EigenSolver, Wanted, SPARSE_FROM};
 use flexbody_reduce::{reduce, Method, Reduction};
 
 #[test]
@@ -29,7 +29,7 @@ fn craig_bampton_from_one_factorisation_equals_the_separate_solvers() {
         &boundary,
         &s.dof_map,
         &rigid,
-        flexbody_reduce::modes::Band::Lowest(12),
+        flexbody_reduce::modes::Wanted::Lowest(12),
     )
     .unwrap();
     let psi_ref =
@@ -39,7 +39,7 @@ fn craig_bampton_from_one_factorisation_equals_the_separate_solvers() {
     let interior: Vec<usize> = (0..s.len()).filter(|i| !boundary.contains(i)).collect();
     let k_nn = flexbody_linalg::sparse::submatrix(k, &interior, &interior);
     let m_nn = flexbody_linalg::sparse::submatrix(m, &interior, &interior);
-    let dense = eigenmodes_with(&k_nn, &m_nn, 12, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(&k_nn, &m_nn, Wanted::Lowest(12), EigenSolver::Dense).unwrap();
     assert_close(&phi.values, &dense.values, 1e-10);
     // Zero at the interface, M-orthonormal.
     for &b in &boundary {
@@ -57,7 +57,7 @@ fn free_residual_modes_from_one_analysis_equal_the_separate_solvers() {
     // the free eigenmodes against the dense solver.
     use flexbody_reduce::modes::{
         inertia_relief_and_free_modes, inertia_relief_attachment_modes, rigid_body_modes,
-        statically_determinate_support, unit_loads, Band,
+        statically_determinate_support, unit_loads, Wanted,
     };
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
@@ -77,15 +77,22 @@ fn free_residual_modes_from_one_analysis_equal_the_separate_solvers() {
     let rigid = rigid_body_modes(&s, [0.5, 0.1, 0.1]);
     let support = statically_determinate_support(&rigid, &boundary[..3]);
     let loads = unit_loads(s.len(), &boundary);
-    let (t_a, all) =
-        inertia_relief_and_free_modes(k, m, &rigid, &loads, &support, &s.dof_map, Band::Lowest(16))
-            .unwrap();
+    let (t_a, all) = inertia_relief_and_free_modes(
+        k,
+        m,
+        &rigid,
+        &loads,
+        &support,
+        &s.dof_map,
+        Wanted::Lowest(16),
+    )
+    .unwrap();
     let want = inertia_relief_attachment_modes(k, m, &rigid, &loads, &support, &s.dof_map).unwrap();
     assert!((&t_a - &want).norm_max() < 1e-10 * want.norm_max());
     // The held factor is the Lanczos operator too (shift 0, rigid-body
     // modes deflated): the modes are the dense solver's, M-orthonormal, and
     // eigenvectors of (K, M) to round-off.
-    let dense = eigenmodes_with(k, m, 16, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(16), EigenSolver::Dense).unwrap();
     assert_close(&all.values, &dense.values, 1e-10);
     let g: Mat<f64> = all.vectors.transpose() * sparse::symmetric_mul(m, all.vectors.as_ref());
     assert!((g - Mat::<f64>::identity(16, 16)).norm_max() < 1e-10);
@@ -106,7 +113,7 @@ fn free_residual_of_a_supported_body_from_one_factorisation() {
     // (eq. 18) and the eigenmodes, both from one factor of K (the Lanczos
     // at shift 0), against K's own LDL^T and the dense solver.
     use flexbody_reduce::modes::{
-        attachment_modes, inertia_relief_and_free_modes, unit_loads, Band, RigidModes,
+        attachment_modes, inertia_relief_and_free_modes, unit_loads, RigidModes, Wanted,
     };
     let s = block_held(10, 3, 3, [1.0, 0.2, 0.2], false, true);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
@@ -121,11 +128,11 @@ fn free_residual_of_a_supported_body_from_one_factorisation() {
     };
     let loads = unit_loads(s.len(), &boundary);
     let (t_a, all) =
-        inertia_relief_and_free_modes(k, m, &rigid, &loads, &[], &s.dof_map, Band::Lowest(12))
+        inertia_relief_and_free_modes(k, m, &rigid, &loads, &[], &s.dof_map, Wanted::Lowest(12))
             .unwrap();
     let want = attachment_modes(k, &loads, &s.dof_map).unwrap();
     assert!((&t_a - &want).norm_max() < 1e-10 * want.norm_max());
-    let dense = eigenmodes_with(k, m, 12, EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(12), EigenSolver::Dense).unwrap();
     assert_close(&all.values, &dense.values, 1e-10);
     let g: Mat<f64> = all.vectors.transpose() * sparse::symmetric_mul(m, all.vectors.as_ref());
     assert!((g - Mat::<f64>::identity(12, 12)).norm_max() < 1e-10);
@@ -151,7 +158,7 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
     // Both against K_NN's own LDL^T and the dense solver of K + C.
     use flexbody_reduce::method::support_stiffness;
     use flexbody_reduce::modes::{
-        constraint_modes, elastic_residual_modes, rigid_body_modes, Band,
+        constraint_modes, elastic_residual_modes, rigid_body_modes, Wanted,
     };
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
@@ -170,7 +177,7 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
     for (springs, rigid_like) in [(springs_at(&corners, 1e7), 0), (one, 5)] {
         let c = support_stiffness(&s, &springs).unwrap();
         let (psi, phi) =
-            elastic_residual_modes(k, m, &c, &boundary, &s.dof_map, &rigid, Band::Lowest(12))
+            elastic_residual_modes(k, m, &c, &boundary, &s.dof_map, &rigid, Wanted::Lowest(12))
                 .unwrap();
         assert!(
             (&psi - &psi_ref).norm_max() < 1e-10 * psi_ref.norm_max(),
@@ -178,7 +185,7 @@ fn elastic_residual_modes_from_one_factorisation_equal_the_separate_solvers() {
             (&psi - &psi_ref).norm_max() / psi_ref.norm_max()
         );
         let supported = sparse::add_scaled(k, 1.0, &c).unwrap();
-        let dense = eigenmodes_with(&supported, m, 12, EigenSolver::Dense).unwrap();
+        let dense = eigenmodes_with(&supported, m, Wanted::Lowest(12), EigenSolver::Dense).unwrap();
         // The motions the springs leave free are at zero frequency.
         let zero = dense.values.iter().filter(|l| **l < 1.0).count();
         assert_eq!(zero, rigid_like);
@@ -302,7 +309,7 @@ fn elastic_residual_keeps_rigid_motions_the_springs_leave_free_out_of_the_basis(
         let full = eigenmodes_with(
             &s.matrices.stiffness,
             &s.matrices.mass,
-            16,
+            Wanted::Lowest(16),
             EigenSolver::Dense,
         )
         .unwrap()
