@@ -3,9 +3,9 @@
 //!
 //! A model of 3e5 DOFs allocates several GB over a run (the factor, the
 //! Lanczos basis, blocks of right-hand sides), and the system allocator
-//! hands large blocks back to the kernel when they are freed. In 4 KiB pages
-//! that is about 800 000 page faults per `flexbody modes` run, 0.7 s of the
-//! 10 s. Where the kernel grants huge pages only on request (`madvise`
+//! hands large blocks back to the kernel when they are freed: in 4 KiB pages
+//! that is hundreds of thousands of page faults per `flexbody modes` run.
+//! Where the kernel grants huge pages only on request (`madvise`
 //! mode, the usual default), this allocator makes that request; elsewhere
 //! (`always`, `never`, not Linux) it changes nothing.
 

@@ -2,14 +2,14 @@
 //!
 //! Other crates keep their data in faer's [`faer::Mat`] and
 //! [`faer::sparse::SparseColMat`] and call these algorithms:
-//! - [`ldlt`]: sparse `LDL^T` with a symbolic/numeric split, block solves,
-//!   pivot inspection (singularity, inertia); its supernodes
-//!   (the `supernodes` module) analysed on the node graph;
+//! - [`ldlt`]: sparse `LDL^T` by phases: the symbolic analysis (supernodes
+//!   found on the node graph, and the plans of the parallel steps), the
+//!   numeric factorisation, block solves, pivot inspection (singularity,
+//!   inertia);
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
 //!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
-//!   fill-reducing [`ordering`], reporting to a [`progress`] hook, with
-//!   block solves in parallel over the elimination tree (the `supernodal` module);
+//!   fill-reducing [`ordering`], reporting to a [`progress`] hook;
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
 
@@ -18,14 +18,11 @@ pub mod lanczos;
 pub mod ldlt;
 mod lower;
 pub mod memory;
-mod numeric;
 pub mod ordering;
 pub mod orthonormal;
 pub mod progress;
 pub mod shift_invert;
 pub mod sparse;
-mod supernodal;
-mod supernodes;
 mod tall;
 
 pub use faer::sparse::SparseColMat;

@@ -4,8 +4,8 @@
 //! glibc hands every block above 32 MB back to the kernel on `free` and
 //! takes fresh, zeroed pages on the next `malloc`. The eigen solver of a
 //! large model allocates blocks of about 20 MB again and again (Krylov
-//! blocks, products, solves); at 3e5 DOFs, page faults once cost 3 s of
-//! 19. [`tune_allocator`] keeps blocks up to 64 MB in the heap, where they
+//! blocks, products, solves), each one fresh pages the kernel must fault in
+//! and zero. [`tune_allocator`] keeps blocks up to 64 MB in the heap, where they
 //! are reused, and maps larger ones (the factor, the Krylov basis, the
 //! copies of `K` and `M`) so that freeing them returns their memory.
 //! Freed heap memory stays resident until [`release_free_memory`] hands it
@@ -214,9 +214,9 @@ fn cgroup_room(max: &str, current: &str, stat: &str, cache: &str) -> Option<u64>
 /// `capacity` zeros whose pages are touched (in steps of 2 MiB, the
 /// first `touch` values at most) until `done` is set: fresh memory made
 /// resident ahead, on a thread that would otherwise wait. The rest stays
-/// untouched (the allocator's zero pages). On this machine's VM the first
-/// touch of fresh memory costs about 1 s/GiB; the shift-invert pencil
-/// touches part of its first factor's storage while METIS orders.
+/// untouched (the allocator's zero pages). A first touch of fresh memory
+/// is a page fault; the shift-invert pencil takes those of part of its
+/// first factor's storage while METIS orders.
 ///
 /// Returns the storage and how many of its values were touched.
 pub(crate) fn touch_until(done: &AtomicBool, capacity: usize, touch: usize) -> (Vec<f64>, usize) {

@@ -12,7 +12,7 @@
 //! orders the vertices, and the order is expanded back to the equations.
 //! This makes the graph 3-6 times smaller and the ordering that much faster,
 //! with the same fill. The order comes with that graph ([`Dissection`]):
-//! the symbolic analysis works on it too (the `supernodes` module).
+//! the symbolic analysis works on it too (the symbolic phase of `ldlt`).
 
 use crate::LinalgError;
 use faer::sparse::SymbolicSparseColMatRef;
@@ -46,7 +46,7 @@ impl Ordering {
 
 /// A fill-reducing order of the equations, with the node graph it was
 /// computed on where it came from [`nested_dissection`] (the symbolic
-/// analysis then works on that graph: the `supernodes` module).
+/// analysis then works on that graph: the symbolic phase of `ldlt`).
 #[derive(Clone, Debug)]
 pub struct Dissection {
     /// `forward[new] = old`.
@@ -226,7 +226,7 @@ pub(crate) fn mix(i: usize) -> u64 {
 /// Reorders `order` (`order[new] = old` vertex) into a postorder of its
 /// elimination tree, which has the same fill: every subtree becomes a
 /// contiguous range, so the supernodal solve can hand whole subtrees to
-/// threads ([`crate::supernodal`]). METIS's dissection order is one at the
+/// threads ([`crate::ldlt::solve`]). METIS's dissection order is one at the
 /// top, but its minimum-degree leaves interleave subtrees.
 fn postorder(xadj: &[i32], adjncy: &[i32], order: &[usize]) -> Vec<usize> {
     let nv = order.len();

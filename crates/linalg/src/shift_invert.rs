@@ -14,9 +14,9 @@
 //! below the spectrum and, above it, stable enough for the inertia that a
 //! Sturm check needs (the practice of Lanczos codes in FE programs).
 
+use crate::ldlt::numeric::Input;
 use crate::ldlt::{Inertia, SymbolicLdlt};
 use crate::lower::LowerPattern;
-use crate::numeric::Input;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
@@ -515,7 +515,7 @@ mod tests {
     /// of the other equations.
     #[test]
     fn shifted_and_held_supernodal_factors_solve_their_matrices() {
-        let k = crate::supernodal::tests::grid(8);
+        let k = crate::ldlt::solve::tests::grid(8);
         let n = k.nrows();
         // A mass on K's pattern with zeros off the 3 x 3 diagonal blocks'
         // diagonals (as the consistent mass of solids): its own pattern is

@@ -27,12 +27,12 @@ use flexbody_linalg::{sparse, LinalgError, SparseMat};
 pub const DENSE_LIMIT: usize = 6000;
 
 /// Size from which [`EigenSolver::Auto`] takes the sparse Lanczos solver.
-/// Measured with the release build on free C3D8 bars, 20 modes, 2 cores
-/// (`cargo test --release -p flexbody-reduce --test large -- --ignored`):
-/// 135 DOFs dense 0.014 s, Lanczos 0.011 s; 336 DOFs 0.051 s against
-/// 0.015 s; 2268 DOFs 8.9 s against 0.08 s. The two cross near 150 DOFs;
-/// below 300 both take milliseconds and the dense solver (two shifts) is
-/// the more accurate one for the low modes, so it keeps that range.
+/// The dense solver's work grows with the cube of the DOFs, the sparse
+/// one's about linearly on meshes; the ignored test
+/// `time_dense_against_sparse` (`cargo test --release --test large --
+/// --ignored`) times both. Below this size both take milliseconds and the
+/// dense solver (two shifts) is the more accurate one for the low modes,
+/// so it keeps that range.
 pub const SPARSE_FROM: usize = 300;
 
 /// The lowest eigenpairs, M-orthonormal (`Phi^T M Phi = I`), ascending;

@@ -6,12 +6,18 @@
 //! once (block solves: one sweep through `L` per block). The pivots `D` are kept
 //! in the original row order so that a vanishing pivot names the DOF where a
 //! matrix is singular, and their signs give the inertia (Sturm count).
+//!
+//! The phases have a file each: `symbolic` (the supernodal structure,
+//! analysed on the node graph), `numeric` (the factorisation in parallel
+//! over the elimination tree) and `solve` (block solves, in parallel over
+//! the same tree).
 
-use crate::numeric::{Input, Panels, UpdatePlan};
+pub(crate) mod numeric;
+pub(crate) mod solve;
+pub(crate) mod symbolic;
+
 use crate::ordering::{nested_dissection, Dissection, Ordering};
 use crate::progress::Stage;
-use crate::supernodal::SolvePlan;
-use crate::supernodes::{FactorRef, Supernodes};
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -21,7 +27,10 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, MatRef, Side};
+use numeric::{Input, Panels};
 use std::sync::Arc;
+use symbolic::{FactorRef, Supernodes};
+use symbolic::{SolvePlan, UpdatePlan};
 
 /// Tuning of the numeric factorisation.
 #[derive(Copy, Clone, Debug)]
@@ -109,7 +118,7 @@ impl SymbolicLdlt {
     /// for faer's AMD.
     ///
     /// Under nested dissection the supernodes come from the graph of the
-    /// nodes (the `supernodes` module); faer analyses the equations
+    /// nodes (the symbolic phase); faer analyses the equations
     /// under AMD, and where the factor is simplicial.
     pub fn analyze_permuted(
         pattern: SymbolicSparseColMatRef<'_, usize>,
@@ -190,7 +199,10 @@ impl SymbolicLdlt {
                 SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
                     .map(|k| {
                         let width = s.supernode_end()[k] - s.supernode_begin()[k];
-                        crate::supernodes::supernode_flops(width, s.supernode(k).pattern().len())
+                        crate::ldlt::symbolic::supernode_flops(
+                            width,
+                            s.supernode(k).pattern().len(),
+                        )
                     })
                     .sum(),
             },
@@ -323,7 +335,7 @@ impl SymbolicLdlt {
         // Every block is cleared where it is factorised: storage is taken
         // as it is, only fitted to the factor's length.
         crate::memory::fit(values, s.supernodes.len_val());
-        crate::numeric::factorize(
+        crate::ldlt::numeric::factorize(
             &s.supernodes,
             &s.plan,
             &s.updates,
@@ -394,7 +406,7 @@ impl SymbolicLdlt {
 
     /// Solves `L D L^T X = B` in place with the factor `values`: in parallel
     /// over the elimination tree for a supernodal factor
-    /// ([`crate::supernodal`]), with faer's solve otherwise.
+    /// ([`crate::ldlt::solve`]), with faer's solve otherwise.
     pub(crate) fn solve_in_place(&self, values: &[f64], x: MatMut<'_, f64>) {
         match &*self.inner {
             Analysis::Supernodal(s) => {

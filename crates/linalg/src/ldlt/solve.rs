@@ -3,10 +3,8 @@
 //!
 //! # Subtrees in parallel
 //! faer's own solve walks the supernodes one after another and parallelises
-//! inside each dense kernel; at 3e5 DOFs most supernodes are small, and the
-//! per-kernel thread hand-off cost more than it gained (a block of 8
-//! right-hand sides took 0.39 s with 2 threads against 0.31 s with one).
-//! Nested dissection yields a tree whose large subtrees are independent:
+//! inside each dense kernel; most supernodes of a large mesh are small, and
+//! a thread hand-off per kernel costs more than it gains. Nested dissection yields a tree whose large subtrees are independent:
 //! the forward sweep of two disjoint subtrees only meets in the separators
 //! above them. A [`SolvePlan`] splits the tree into such subtrees (tasks,
 //! each a contiguous range of rows in the postordered factor) and the
@@ -27,148 +25,25 @@
 //! block as a general matrix product would make, no temporary. The
 //! diagonal blocks go the same way, four columns at a time. The large
 //! supernodes of the top split their rows (forward) or columns (backward)
-//! between the threads. At 3e5 DOFs (C3D8 box beam, 8.4e7 entries in `L`,
-//! 32 tasks, 2 threads) a group takes 0.09 s, where faer's products on
-//! column-major blocks took 0.2 s.
+//! between the threads.
 //!
-//! Four columns of a supernode of the beam are four short streams (about
-//! a hundred rows each), which the hardware prefetcher follows poorly: a
-//! kernel of this shape (`bench/kernel_streams.c`) reads 10-12 GB/s where
-//! one stream of the same entries (four columns interleaved row by row)
-//! reads 17-22 GB/s on this 2-core machine. While a group of four columns
+//! Four columns of a small supernode are four short streams (about a
+//! hundred rows each), which the hardware prefetcher follows poorly
+//! (`bench/kernel_streams.c` measures a kernel of this shape against one
+//! stream of the same entries). While a group of four columns
 //! runs, each eighth row asks the cache for the same row of the next
 //! group's columns, and the last group of a pass for the columns the next
 //! pass starts with (the next group of a diagonal block, the first group's
-//! top rows after the local ones); that took the beam's 23 sweeps from
-//! 2.2-2.3 to 1.9 s.
+//! top rows after the local ones).
 
+use crate::ldlt::numeric::Shared;
+use crate::ldlt::symbolic::{FactorRef, SolvePlan, Task};
 use crate::lower::{Lane, LANE};
-use crate::numeric::Shared;
-use crate::supernodes::{FactorRef, Supernodes};
 use faer::{MatMut, MatRef};
 use rayon::prelude::*;
 use std::ops::Range;
 
-/// A disjoint subtree of the supernodal elimination tree: its supernodes
-/// and the rows (columns of `L`) they own, both contiguous.
-#[derive(Clone, Debug)]
-pub(crate) struct Task {
-    pub(crate) supernodes: Range<usize>,
-    pub(crate) rows: Range<usize>,
-}
-
-/// The split of a supernodal factor into parallel subtrees and the
-/// supernodes above them; computed once per symbolic analysis.
-#[derive(Clone, Debug)]
-pub struct SolvePlan {
-    pub(crate) tasks: Vec<Task>,
-    /// Supernodes outside every task, ascending.
-    pub(crate) top: Vec<usize>,
-    /// Rows of the top supernodes, ascending.
-    top_rows: Vec<usize>,
-    /// `top_index[row]`: position of `row` in `top_rows` (`usize::MAX` for
-    /// rows inside a task).
-    top_index: Vec<usize>,
-}
-
 impl SolvePlan {
-    /// Splits the tree for `threads` threads: the heaviest subtree (by
-    /// entries of `L`) is replaced by its children until there are at least
-    /// four tasks per thread and none holds more than a sixteenth of the
-    /// factor per thread. One thread, or a tree that is not postordered,
-    /// gives a plan with every supernode in the top (a sequential solve).
-    pub fn new(symbolic: &Supernodes, threads: usize) -> Self {
-        let ns = symbolic.n_supernodes();
-        let n = symbolic.nrows();
-        let begin = symbolic.supernode_begin();
-        let end = symbolic.supernode_end();
-        let mut supernode_of = vec![0usize; n];
-        for s in 0..ns {
-            supernode_of[begin[s]..end[s]].fill(s);
-        }
-        // parent(s): the supernode of the first row below the diagonal block.
-        let parent: Vec<Option<usize>> = (0..ns)
-            .map(|s| {
-                symbolic
-                    .supernode(s)
-                    .pattern()
-                    .first()
-                    .map(|&r| supernode_of[r])
-            })
-            .collect();
-        let own_work: Vec<usize> = (0..ns)
-            .map(|s| {
-                let size = end[s] - begin[s];
-                size * (size + symbolic.supernode(s).pattern().len())
-            })
-            .collect();
-        // Postorder check and subtree sizes: children come before parents and
-        // every subtree is the contiguous range [first[s], s].
-        let mut first: Vec<usize> = (0..ns).collect();
-        let mut count = vec![1usize; ns];
-        let mut work = own_work.clone();
-        let mut children: Vec<Vec<usize>> = vec![vec![]; ns];
-        let mut postordered = true;
-        for s in 0..ns {
-            if let Some(p) = parent[s] {
-                if p <= s {
-                    postordered = false;
-                    break;
-                }
-                first[p] = first[p].min(first[s]);
-                count[p] += count[s];
-                work[p] += work[s];
-                children[p].push(s);
-            }
-        }
-        postordered &= (0..ns).all(|s| first[s] + count[s] == s + 1);
-        let sequential = Self {
-            tasks: vec![],
-            top: (0..ns).collect(),
-            top_rows: (0..n).collect(),
-            top_index: (0..n).collect(),
-        };
-        if threads < 2 || !postordered || ns == 0 {
-            return sequential;
-        }
-        let total: usize = (0..ns)
-            .filter(|&s| parent[s].is_none())
-            .map(|s| work[s])
-            .sum();
-        let mut frontier: Vec<usize> = (0..ns).filter(|&s| parent[s].is_none()).collect();
-        let mut top = Vec::new();
-        while let Some((pos, &heaviest)) = frontier.iter().enumerate().max_by_key(|(_, &s)| work[s])
-        {
-            let balanced = frontier.len() >= 4 * threads && work[heaviest] * 16 * threads <= total;
-            if balanced || children[heaviest].is_empty() || top.len() > 4096 {
-                break;
-            }
-            frontier.swap_remove(pos);
-            top.push(heaviest);
-            frontier.extend(&children[heaviest]);
-        }
-        top.sort_unstable();
-        let mut tasks: Vec<Task> = frontier
-            .iter()
-            .map(|&s| Task {
-                supernodes: first[s]..s + 1,
-                rows: begin[first[s]]..end[s],
-            })
-            .collect();
-        tasks.sort_by_key(|t| t.rows.start);
-        let top_rows: Vec<usize> = top.iter().flat_map(|&s| begin[s]..end[s]).collect();
-        let mut top_index = vec![usize::MAX; n];
-        for (k, &r) in top_rows.iter().enumerate() {
-            top_index[r] = k;
-        }
-        Self {
-            tasks,
-            top,
-            top_rows,
-            top_index,
-        }
-    }
-
     /// Number of subtrees solved in parallel.
     #[cfg(test)]
     pub fn tasks(&self) -> usize {

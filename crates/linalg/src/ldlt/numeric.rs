@@ -2,8 +2,8 @@
 //! elimination tree, into faer's value layout.
 //!
 //! faer's numeric factorisation visits the supernodes one after another and
-//! parallelises only inside each dense kernel; at 3e5 DOFs most supernodes
-//! are small, and two threads ran 1.2 times as fast as one. This one is the
+//! parallelises only inside each dense kernel, where most supernodes of a
+//! large mesh are small. This one is the
 //! same left-looking algorithm: a supernode gathers the updates
 //! `L_ds D_d L_ds^T` of every descendant `d` whose pattern meets its
 //! columns, then factorises its diagonal block densely and scales the block
@@ -15,19 +15,17 @@
 //! result does not depend on the schedule (each supernode sums its updates
 //! in the same order) and equals faer's to round-off. A descendant's update
 //! on the supernode's own columns is needed only below the diagonal: that
-//! square is computed as a lower triangle, which took the top separators'
-//! products from 0.69 to 0.49 CPU-s. At 3e5 DOFs (C3D8 beam, 8.4e7 entries
-//! in `L`, 2 threads) a factorisation takes 0.9-1.0 s, faer's 1.8 s.
+//! square is computed as a lower triangle, half the products of a full one.
 //!
 //! Memory beyond `L`: the permuted lower triangle of `A` and, per thread,
 //! the buffers of one update. The large separators of a solid's factor get
 //! updates of thousands of rows and columns; they go by panels of columns
-//! ([`Panels`]), which took the transient of a factorisation at 1e6
-//! DOFs (solid C3D10, 16.8 GiB in `L`) from about 2.8 GiB to under 1 GiB.
+//! ([`Panels`]), so that a thread's buffer stays bounded whatever the
+//! separator's size.
 
+use crate::ldlt::symbolic::Supernodes;
+use crate::ldlt::symbolic::{SolvePlan, UpdatePlan};
 use crate::lower::LowerPattern;
-use crate::supernodal::SolvePlan;
-use crate::supernodes::Supernodes;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::{cholesky_in_place, LdltError, LdltRegularization};
 use faer::linalg::matmul::matmul;
@@ -35,118 +33,6 @@ use faer::sparse::SparseColMatRef;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
-
-/// Which descendants update which supernode, and the tree of the plan's
-/// top; computed once per analysis.
-#[derive(Clone, Debug)]
-pub(crate) struct UpdatePlan {
-    /// `descendants[ptr[s]..ptr[s + 1]]`: the supernodes whose pattern has a
-    /// row among the columns of `s`, ascending.
-    ptr: Vec<usize>,
-    descendants: Vec<u32>,
-    /// The top supernodes without a parent in the top.
-    top_roots: Vec<usize>,
-    /// `top_children[s]`: the children of `s` in the top.
-    top_children: Vec<Vec<usize>>,
-    /// `work[s]`: multiply-adds of the step of `s` (its descendants'
-    /// updates and its own blocks), and their sum: the factorisation's
-    /// progress as its supernodes finish.
-    work: Vec<f64>,
-    total_work: f64,
-}
-
-impl UpdatePlan {
-    pub(crate) fn new(symbolic: &Supernodes, plan: &SolvePlan) -> Self {
-        let ns = symbolic.n_supernodes();
-        let begin = symbolic.supernode_begin();
-        let end = symbolic.supernode_end();
-        let mut supernode_of = vec![0u32; symbolic.nrows()];
-        for s in 0..ns {
-            supernode_of[begin[s]..end[s]].fill(s as u32);
-        }
-        // The distinct supernodes of each pattern (sorted rows: runs).
-        let supernode_of = &supernode_of;
-        let targets = |d: usize| {
-            let pattern = symbolic.supernode(d).pattern();
-            let mut last = u32::MAX;
-            pattern.iter().filter_map(move |&r| {
-                let s = supernode_of[r];
-                (s != last).then(|| {
-                    last = s;
-                    s
-                })
-            })
-        };
-        let mut count = vec![0usize; ns + 1];
-        for d in 0..ns {
-            for s in targets(d) {
-                count[s as usize + 1] += 1;
-            }
-        }
-        for s in 0..ns {
-            count[s + 1] += count[s];
-        }
-        let ptr = count.clone();
-        let mut next = count;
-        let mut descendants = vec![0u32; ptr[ns]];
-        // A supernode's own blocks: LDL^T of the diagonal block, then the
-        // triangular solve of the rows below.
-        let mut work: Vec<f64> = (0..ns)
-            .map(|s| {
-                let (w, below) = (
-                    (end[s] - begin[s]) as f64,
-                    symbolic.supernode(s).pattern().len() as f64,
-                );
-                w * w * w / 6.0 + w * w * below / 2.0
-            })
-            .collect();
-        for d in 0..ns {
-            let pattern = symbolic.supernode(d).pattern();
-            let width = (end[d] - begin[d]) as f64;
-            let mut first = 0;
-            for s in targets(d) {
-                let s = s as usize;
-                descendants[next[s]] = d as u32;
-                next[s] += 1;
-                // The update of d on s: rows from s's first column on, the
-                // square of s's own columns as a lower triangle.
-                while pattern[first] < begin[s] {
-                    first += 1;
-                }
-                let mid = pattern[first..].partition_point(|&r| r < end[s]) as f64;
-                let rows = (pattern.len() - first) as f64;
-                work[s] += width * (mid * (mid + 1.0) / 2.0 + (rows - mid) * mid);
-            }
-        }
-        // Whole multiply-adds, so that the last supernode makes 100 %.
-        work.iter_mut().for_each(|w| *w = w.floor());
-        let total_work = work.iter().sum();
-        let mut in_top = vec![false; ns];
-        for &s in &plan.top {
-            in_top[s] = true;
-        }
-        let mut top_children: Vec<Vec<usize>> = vec![vec![]; ns];
-        let mut top_roots = Vec::new();
-        for &s in &plan.top {
-            match parent(symbolic, s) {
-                Some(p) if in_top[p] => top_children[p].push(s),
-                _ => top_roots.push(s),
-            }
-        }
-        Self {
-            ptr,
-            descendants,
-            top_roots,
-            top_children,
-            work,
-            total_work,
-        }
-    }
-
-    fn of(&self, s: usize) -> &[u32] {
-        &self.descendants[self.ptr[s]..self.ptr[s + 1]]
-    }
-}
 
 /// The lower triangle (original order) that a factorisation reads: faer's
 /// matrix, or the shift-invert pencil's `K - sigma M` on its
@@ -408,13 +294,6 @@ pub(crate) fn factorize(
         )
         .collect::<Result<Vec<()>, usize>>()?;
     work.subtrees(&updates.top_roots, &updates.top_children)
-}
-
-/// The supernode of the first row below `s`'s diagonal block.
-fn parent(symbolic: &Supernodes, s: usize) -> Option<usize> {
-    let row = *symbolic.supernode(s).pattern().first()?;
-    let end = symbolic.supernode_end();
-    Some(end.partition_point(|&e| e <= row))
 }
 
 /// What every supernode's step reads.
@@ -695,8 +574,9 @@ pub(crate) struct Panels {
 }
 
 impl Panels {
-    /// Products of at most 32 MiB: at 1e6 DOFs of a solid the top
-    /// separators' updates took about 2 GB of buffers in one piece.
+    /// Products of at most 32 MiB (`2^22` entries), where the top
+    /// separators' updates of a large solid would take gigabytes in one
+    /// piece.
     pub(crate) const DEFAULT: Panels = Panels {
         entries: 1 << 22,
         min_width: 64,
@@ -737,10 +617,10 @@ fn par_for(flops: usize, par: Par) -> Par {
 
 #[cfg(test)]
 mod tests {
+    use crate::ldlt::solve::tests::grid;
     use crate::ldlt::SymbolicLdlt;
     use crate::ordering::Ordering;
     use crate::sparse::{add_scaled, max_abs, symmetric_mul};
-    use crate::supernodal::tests::grid;
     use crate::SparseMat;
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -748,7 +628,7 @@ mod tests {
     use faer::Side;
 
     /// faer's own numeric factorisation of `a` on faer's analysis under
-    /// the same permutation (the same supernodes: `crate::supernodes`).
+    /// the same permutation (the same supernodes: `crate::ldlt::symbolic`).
     fn faer_values(symbolic: &SymbolicLdlt, a: &SparseMat) -> Vec<f64> {
         let sym = &symbolic.faer_reference(a.symbolic());
         let mut values = vec![0.0; sym.len_val()];
@@ -820,7 +700,7 @@ mod tests {
             // round-off.
             for entries in [1, 40, 300, 12_000] {
                 let mut panels = Vec::new();
-                let split = crate::numeric::Panels {
+                let split = crate::ldlt::numeric::Panels {
                     entries,
                     min_width: 1,
                 };
@@ -863,7 +743,7 @@ mod tests {
             .factorize_in_panels(
                 a.as_ref(),
                 &mut values,
-                crate::numeric::Panels::DEFAULT,
+                crate::ldlt::numeric::Panels::DEFAULT,
                 &|done| reports.lock().unwrap().push(done),
             )
             .unwrap();

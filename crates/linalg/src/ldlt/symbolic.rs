@@ -1,10 +1,13 @@
-//! The supernodal structure of a sparse `LDL^T` factor, and its symbolic
-//! analysis on the node graph.
+//! The symbolic phase of a sparse `LDL^T`: the supernodal structure of the
+//! factor, its analysis on the node graph, and the plans of the parallel
+//! numeric steps, made once per analysis: [`SolvePlan`] (disjoint subtrees
+//! of the elimination tree and the supernodes above them) and
+//! [`UpdatePlan`] (which descendants update which supernode).
 //!
 //! A supernode is a range of consecutive columns of `L` whose rows below
 //! their diagonal block share one pattern. Its values are one column-major
 //! block: the diagonal block's rows first, then the pattern's (faer's
-//! layout, which the numeric factorisation and [`crate::supernodal`] read).
+//! layout, which the numeric factorisation and [`crate::ldlt::solve`] read).
 //!
 //! The 3 translations of a solid node have the same closed neighbourhood
 //! (adjacency plus themselves), and nested dissection keeps them together
@@ -14,15 +17,13 @@
 //! the equations afterwards: `Supernodes::of_dissection` does faer's
 //! symbolic analysis (fundamental supernodes, then its relaxed
 //! amalgamation) on a graph 3 times smaller with 9 times fewer edges, and
-//! gives faer's structure exactly, entry for entry. At 3e5 DOFs (C3D8 box
-//! beam; 54300 groups) it takes 0.075 s with the plans of the parallel
-//! factorisation and solves, where faer's analysis of the equations took
-//! 0.38 s.
+//! gives faer's structure exactly, entry for entry.
 
 use crate::ordering::{mix, neighbourhoods, Dissection, NodeGraph};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::MatRef;
+use std::ops::Range;
 
 /// faer's amalgamation: a child supernode merges into its parent while the
 /// merged size is at most `.0` columns and at most the fraction `.1` of the
@@ -642,13 +643,255 @@ fn relax(parent: &[usize], size: &[usize], degree: &[usize]) -> Vec<bool> {
     merged.iter().map(|&m| !m).collect()
 }
 
+// ------------------------------------------------------------ plans
+
+/// A disjoint subtree of the supernodal elimination tree: its supernodes
+/// and the rows (columns of `L`) they own, both contiguous.
+#[derive(Clone, Debug)]
+pub(crate) struct Task {
+    pub(crate) supernodes: Range<usize>,
+    pub(crate) rows: Range<usize>,
+}
+
+/// The split of a supernodal factor into parallel subtrees and the
+/// supernodes above them; computed once per symbolic analysis.
+#[derive(Clone, Debug)]
+pub struct SolvePlan {
+    pub(crate) tasks: Vec<Task>,
+    /// Supernodes outside every task, ascending.
+    pub(crate) top: Vec<usize>,
+    /// Rows of the top supernodes, ascending.
+    pub(crate) top_rows: Vec<usize>,
+    /// `top_index[row]`: position of `row` in `top_rows` (`usize::MAX` for
+    /// rows inside a task).
+    pub(crate) top_index: Vec<usize>,
+}
+
+impl SolvePlan {
+    /// Splits the tree for `threads` threads: the heaviest subtree (by
+    /// entries of `L`) is replaced by its children until there are at least
+    /// four tasks per thread and none holds more than a sixteenth of the
+    /// factor per thread. One thread, or a tree that is not postordered,
+    /// gives a plan with every supernode in the top (a sequential solve).
+    pub fn new(symbolic: &Supernodes, threads: usize) -> Self {
+        let ns = symbolic.n_supernodes();
+        let n = symbolic.nrows();
+        let begin = symbolic.supernode_begin();
+        let end = symbolic.supernode_end();
+        let mut supernode_of = vec![0usize; n];
+        for s in 0..ns {
+            supernode_of[begin[s]..end[s]].fill(s);
+        }
+        // parent(s): the supernode of the first row below the diagonal block.
+        let parent: Vec<Option<usize>> = (0..ns)
+            .map(|s| {
+                symbolic
+                    .supernode(s)
+                    .pattern()
+                    .first()
+                    .map(|&r| supernode_of[r])
+            })
+            .collect();
+        let own_work: Vec<usize> = (0..ns)
+            .map(|s| {
+                let size = end[s] - begin[s];
+                size * (size + symbolic.supernode(s).pattern().len())
+            })
+            .collect();
+        // Postorder check and subtree sizes: children come before parents and
+        // every subtree is the contiguous range [first[s], s].
+        let mut first: Vec<usize> = (0..ns).collect();
+        let mut count = vec![1usize; ns];
+        let mut work = own_work.clone();
+        let mut children: Vec<Vec<usize>> = vec![vec![]; ns];
+        let mut postordered = true;
+        for s in 0..ns {
+            if let Some(p) = parent[s] {
+                if p <= s {
+                    postordered = false;
+                    break;
+                }
+                first[p] = first[p].min(first[s]);
+                count[p] += count[s];
+                work[p] += work[s];
+                children[p].push(s);
+            }
+        }
+        postordered &= (0..ns).all(|s| first[s] + count[s] == s + 1);
+        let sequential = Self {
+            tasks: vec![],
+            top: (0..ns).collect(),
+            top_rows: (0..n).collect(),
+            top_index: (0..n).collect(),
+        };
+        if threads < 2 || !postordered || ns == 0 {
+            return sequential;
+        }
+        let total: usize = (0..ns)
+            .filter(|&s| parent[s].is_none())
+            .map(|s| work[s])
+            .sum();
+        let mut frontier: Vec<usize> = (0..ns).filter(|&s| parent[s].is_none()).collect();
+        let mut top = Vec::new();
+        while let Some((pos, &heaviest)) = frontier.iter().enumerate().max_by_key(|(_, &s)| work[s])
+        {
+            let balanced = frontier.len() >= 4 * threads && work[heaviest] * 16 * threads <= total;
+            if balanced || children[heaviest].is_empty() || top.len() > 4096 {
+                break;
+            }
+            frontier.swap_remove(pos);
+            top.push(heaviest);
+            frontier.extend(&children[heaviest]);
+        }
+        top.sort_unstable();
+        let mut tasks: Vec<Task> = frontier
+            .iter()
+            .map(|&s| Task {
+                supernodes: first[s]..s + 1,
+                rows: begin[first[s]]..end[s],
+            })
+            .collect();
+        tasks.sort_by_key(|t| t.rows.start);
+        let top_rows: Vec<usize> = top.iter().flat_map(|&s| begin[s]..end[s]).collect();
+        let mut top_index = vec![usize::MAX; n];
+        for (k, &r) in top_rows.iter().enumerate() {
+            top_index[r] = k;
+        }
+        Self {
+            tasks,
+            top,
+            top_rows,
+            top_index,
+        }
+    }
+}
+
+/// Which descendants update which supernode, and the tree of the plan's
+/// top; computed once per analysis.
+#[derive(Clone, Debug)]
+pub(crate) struct UpdatePlan {
+    /// `descendants[ptr[s]..ptr[s + 1]]`: the supernodes whose pattern has a
+    /// row among the columns of `s`, ascending.
+    pub(crate) ptr: Vec<usize>,
+    pub(crate) descendants: Vec<u32>,
+    /// The top supernodes without a parent in the top.
+    pub(crate) top_roots: Vec<usize>,
+    /// `top_children[s]`: the children of `s` in the top.
+    pub(crate) top_children: Vec<Vec<usize>>,
+    /// `work[s]`: multiply-adds of the step of `s` (its descendants'
+    /// updates and its own blocks), and their sum: the factorisation's
+    /// progress as its supernodes finish.
+    pub(crate) work: Vec<f64>,
+    pub(crate) total_work: f64,
+}
+
+impl UpdatePlan {
+    pub(crate) fn new(symbolic: &Supernodes, plan: &SolvePlan) -> Self {
+        let ns = symbolic.n_supernodes();
+        let begin = symbolic.supernode_begin();
+        let end = symbolic.supernode_end();
+        let mut supernode_of = vec![0u32; symbolic.nrows()];
+        for s in 0..ns {
+            supernode_of[begin[s]..end[s]].fill(s as u32);
+        }
+        // The distinct supernodes of each pattern (sorted rows: runs).
+        let supernode_of = &supernode_of;
+        let targets = |d: usize| {
+            let pattern = symbolic.supernode(d).pattern();
+            let mut last = u32::MAX;
+            pattern.iter().filter_map(move |&r| {
+                let s = supernode_of[r];
+                (s != last).then(|| {
+                    last = s;
+                    s
+                })
+            })
+        };
+        let mut count = vec![0usize; ns + 1];
+        for d in 0..ns {
+            for s in targets(d) {
+                count[s as usize + 1] += 1;
+            }
+        }
+        for s in 0..ns {
+            count[s + 1] += count[s];
+        }
+        let ptr = count.clone();
+        let mut next = count;
+        let mut descendants = vec![0u32; ptr[ns]];
+        // A supernode's own blocks: LDL^T of the diagonal block, then the
+        // triangular solve of the rows below.
+        let mut work: Vec<f64> = (0..ns)
+            .map(|s| {
+                let (w, below) = (
+                    (end[s] - begin[s]) as f64,
+                    symbolic.supernode(s).pattern().len() as f64,
+                );
+                w * w * w / 6.0 + w * w * below / 2.0
+            })
+            .collect();
+        for d in 0..ns {
+            let pattern = symbolic.supernode(d).pattern();
+            let width = (end[d] - begin[d]) as f64;
+            let mut first = 0;
+            for s in targets(d) {
+                let s = s as usize;
+                descendants[next[s]] = d as u32;
+                next[s] += 1;
+                // The update of d on s: rows from s's first column on, the
+                // square of s's own columns as a lower triangle.
+                while pattern[first] < begin[s] {
+                    first += 1;
+                }
+                let mid = pattern[first..].partition_point(|&r| r < end[s]) as f64;
+                let rows = (pattern.len() - first) as f64;
+                work[s] += width * (mid * (mid + 1.0) / 2.0 + (rows - mid) * mid);
+            }
+        }
+        // Whole multiply-adds, so that the last supernode makes 100 %.
+        work.iter_mut().for_each(|w| *w = w.floor());
+        let total_work = work.iter().sum();
+        let mut in_top = vec![false; ns];
+        for &s in &plan.top {
+            in_top[s] = true;
+        }
+        let mut top_children: Vec<Vec<usize>> = vec![vec![]; ns];
+        let mut top_roots = Vec::new();
+        for &s in &plan.top {
+            match parent(symbolic, s) {
+                Some(p) if in_top[p] => top_children[p].push(s),
+                _ => top_roots.push(s),
+            }
+        }
+        Self {
+            ptr,
+            descendants,
+            top_roots,
+            top_children,
+            work,
+            total_work,
+        }
+    }
+
+    pub(crate) fn of(&self, s: usize) -> &[u32] {
+        &self.descendants[self.ptr[s]..self.ptr[s + 1]]
+    }
+}
+
+/// The supernode of the first row below `s`'s diagonal block.
+fn parent(symbolic: &Supernodes, s: usize) -> Option<usize> {
+    let row = *symbolic.supernode(s).pattern().first()?;
+    let end = symbolic.supernode_end();
+    Some(end.partition_point(|&e| e <= row))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ldlt::solve::tests::grid;
     use crate::ldlt::{faer_analysis, SymbolicLdlt};
     use crate::ordering::nested_dissection;
     use crate::sparse::{max_abs, submatrix, symmetric_mul};
-    use crate::supernodal::tests::grid;
     use crate::SparseMat;
     use faer::sparse::linalg::cholesky::{
         CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
