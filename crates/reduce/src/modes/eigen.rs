@@ -102,14 +102,7 @@ pub(crate) fn eigenmodes_from(
         );
         return Ok((modes, residuals, Products::Full(matrices)));
     }
-    if let Wanted::Lowest(count) = band {
-        if count > n {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: n,
-            });
-        }
-    }
+    available(band, n)?;
     let progress = flexbody_linalg::progress::global();
     let pencil =
         ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*progress)?;
@@ -153,14 +146,7 @@ pub fn eigenmodes_with(
         EigenSolver::Auto => dense_path(n, wanted),
     };
     if !dense {
-        if let Wanted::Lowest(count) = wanted {
-            if count > n {
-                return Err(ReduceError::NotEnoughModes {
-                    requested: count,
-                    available: n,
-                });
-            }
-        }
+        available(wanted, n)?;
         let progress = flexbody_linalg::progress::global();
         let found = lanczos(
             stiffness,
@@ -169,30 +155,28 @@ pub fn eigenmodes_with(
             &LanczosParams::default(),
             &*progress,
         )?;
-        if let Wanted::Lowest(count) = wanted {
-            if found.pairs.values.len() < count {
-                return Err(ReduceError::NotEnoughModes {
-                    requested: count,
-                    available: found.pairs.values.len(),
-                });
-            }
-        }
+        available(wanted, found.pairs.values.len())?;
         return Ok(found.pairs);
     }
     // Every finite eigenvalue: fewer than n where DOFs carry no mass.
     let pairs = dense_all(stiffness, mass)?;
-    let available = pairs.values.len();
+    available(wanted, pairs.values.len())?;
     let count = match wanted {
-        Wanted::Lowest(count) if count > available => {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available,
-            })
-        }
         Wanted::Lowest(count) => count,
         Wanted::Below(limit) => pairs.values.iter().filter(|l| **l < limit).count(),
     };
     Ok(pairs.slice(0, count))
+}
+
+/// A count of eigenpairs above the `available` ones is an error.
+fn available(wanted: Wanted, available: usize) -> Result<(), ReduceError> {
+    match wanted {
+        Wanted::Lowest(count) if count > available => Err(ReduceError::NotEnoughModes {
+            requested: count,
+            available,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// Every finite eigenpair by the dense solver (up to [`DENSE_LIMIT`] DOFs):
@@ -252,14 +236,7 @@ fn lanczos_band(
     };
     let progress = flexbody_linalg::progress::global();
     let found = lanczos_on(pencil, factor, band, held, &params, &*progress)?;
-    if let Wanted::Lowest(count) = band {
-        if found.pairs.values.len() < count {
-            return Err(ReduceError::NotEnoughModes {
-                requested: count,
-                available: found.pairs.values.len(),
-            });
-        }
-    }
+    available(band, found.pairs.values.len())?;
     Ok(found)
 }
 
