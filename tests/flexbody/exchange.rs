@@ -2,11 +2,9 @@
 //! files, the JSON file, the Matrix Market folder, the VTU file and format
 //! detection.
 
-use super::support::{hex_beam, reduce_with};
+use super::support::{hex_beam, reduce_with, side_beam_json};
 use flexbody::export::sid::{parse_sid, read_sid, write_sid};
-use flexbody::export::{
-    read_any, read_json, summary, vtk, write_json, AnyBody, ExportError, Format,
-};
+use flexbody::export::{read_any, read_json, summary, vtk, AnyBody, ExportError, Format};
 use flexbody::fem::{Model, Substructure};
 use flexbody::output;
 use flexbody::reduce::{Method, ReducedBody};
@@ -122,10 +120,7 @@ fn ke_line(text: &str, line: &str) -> bool {
 
 #[test]
 fn broken_json_files_name_the_block_and_line() {
-    let (_, _, body) = super::side_beam_body(Method::FreeResidual, 1);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("body.json");
-    write_json(&body, &path).unwrap();
+    let (dir, path, _) = side_beam_json(Method::FreeResidual, 1);
     let text = std::fs::read_to_string(&path).unwrap();
 
     let cut = text.find("\"basis\"").unwrap() + 200;

@@ -1,6 +1,7 @@
 //! Interface points on solids (RBE2/RBE3), force groups, band selection, and
 //! the report's study on a solid mesh.
 
+use super::support::{run_ok, solid_side_beam as solid_path, stdout_json};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::mbs::FlexibleBody;
 use flexbody::reduce::{reduce, ForceGroup, Method, Reduction};
@@ -10,10 +11,6 @@ use std::path::PathBuf;
 
 const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
 const HEAVE: f64 = 122.0;
-
-fn solid_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
-}
 
 fn rows_of(rows: &[CaseRow], method: Method, r: usize) -> Vec<&CaseRow> {
     rows.iter()
@@ -73,18 +70,14 @@ fn the_reports_findings_hold_on_the_solid_side_beam() {
 #[test]
 fn study_json_of_a_solid_reports_interface_forces_and_von_mises() {
     let dir = std::env::temp_dir().join(format!("flexbody-solid-{}", std::process::id()));
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .args([
-            "study",
-            solid_path().to_str().unwrap(),
-            "--json",
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = run_ok(&[
+        "study",
+        solid_path().to_str().unwrap(),
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let doc = stdout_json(&o);
     let case = &doc["cases"][0];
     for key in ["method", "r", "omega", "err_w", "err_force", "err_vm"] {
         assert!(!case[key].is_null(), "{key} in {case}");

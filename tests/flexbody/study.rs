@@ -365,12 +365,7 @@ fn interface_forces_from_matrices_equal_the_connection_forces() {
             },
             FlexibleBody::Reduced(&body),
         ] {
-            let system = flexbody::mbs::System {
-                flexible: vec![flexible],
-                rigid: file.rigid_bodies.clone(),
-                connections: file.connections.clone(),
-                track: file.track,
-            };
+            let system = file.system(flexible);
             let r = flexbody::mbs::harmonic_response(&system, omega).unwrap();
             let u = &r.flexible[0].0;
             let a: Vec<f64> = u.iter().map(|v| -omega * omega * v).collect();
