@@ -1,7 +1,9 @@
 //! The `flexbody` command on bad input: exit code 2, a message naming file
 //! and line, never a panic.
 
-use super::support::{fails_with, flexbody, hex_beam_deck, reduce_args, run_ok, stderr, variant};
+use super::support::{
+    fails_with, flexbody, hex_beam_deck, mid_span_interface, reduce_args, run_ok, stderr, variant,
+};
 
 /// `flexbody study` on the side beam with `from` replaced by `to` (written
 /// as `name`) fails with all `needles`.
@@ -56,12 +58,7 @@ fn unknown_methods_are_refused() {
 #[test]
 fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
     let dir = tempfile::tempdir().unwrap();
-    let m = variant(
-        dir.path(),
-        "m.toml",
-        "[track]",
-        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
-    );
+    let m = mid_span_interface(dir.path());
     let out = dir.path().join("b.json");
     fails_with(
         &reduce_args(&m, "craig-bampton", "1", &out, &[]),

@@ -2,7 +2,7 @@
 //! with exit code 2 (or its typed error, for the library), names what is
 //! wrong, and leaves no output behind.
 
-use super::support::{fails_with, flexbody, reduce_args, run_ok, stderr, variant};
+use super::support::{fails_with, flexbody, mid_span_interface, reduce_args, run_ok, stderr};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::reduce::{reduce, ForceGroup, Method, ReduceError, Reduction};
 use flexbody::scenario::read_model_file;
@@ -185,12 +185,7 @@ fn guyan_and_elastic_residual_name_the_dofs_an_interface_leaves_free() {
     // One interface DOF at mid-span holds heave but not pitch: K_NN is
     // singular, and the beam's ends move most in the pitch about node 11.
     let dir = tempfile::tempdir().unwrap();
-    let model = variant(
-        dir.path(),
-        "m.toml",
-        "[track]",
-        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
-    );
+    let model = mid_span_interface(dir.path());
     let out = dir.path().join("b.json");
     for (method, modes) in [("guyan", "0"), ("elastic-residual", "1")] {
         fails_with(

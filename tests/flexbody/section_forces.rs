@@ -3,6 +3,7 @@
 //! the springs and the inertia.
 
 use super::study::{ELEMENT, HEAVE, RHO_A, STATIC};
+use super::support::unit_translation;
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::{harmonic_section_forces, ModalRecovery};
@@ -44,12 +45,7 @@ fn section_forces_balance_the_spring_forces() {
     // uz DOFs (M from the assembly, not from the element recovery).
     let file = read_model_file(&super::side_beam_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let ones: Vec<f64> = sub
-        .dof_map
-        .dofs()
-        .iter()
-        .map(|d| (d.kind == DofKind::Uz) as u8 as f64)
-        .collect();
+    let ones = unit_translation(&sub, DofKind::Uz);
     for omega in [STATIC, HEAVE] {
         let full = FlexibleBody::Full {
             dof_map: &sub.dof_map,

@@ -99,6 +99,35 @@ pub(crate) fn side_beam_json(method: Method, modes: usize) -> (TempDir, PathBuf,
     (dir, path, body)
 }
 
+/// The largest difference between the entries of `a` and `b`.
+pub(crate) fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// 1 at every DOF of `sub` of `kind`, 0 at the others: a unit rigid
+/// translation when `kind` is a translation.
+pub(crate) fn unit_translation(sub: &Substructure, kind: DofKind) -> Vec<f64> {
+    sub.dof_map
+        .dofs()
+        .iter()
+        .map(|d| (d.kind == kind) as u8 as f64)
+        .collect()
+}
+
+/// The side beam held at one interface DOF, node 11 uz, written to
+/// `dir/m.toml`: heave is held, pitch about node 11 is not.
+pub(crate) fn mid_span_interface(dir: &Path) -> String {
+    variant(
+        dir,
+        "m.toml",
+        "[track]",
+        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
+    )
+}
+
 /// The CalculiX hex-element beam of `tests/fixtures/calculix/hex_beam`: its
 /// matrices and its mesh.
 pub(crate) fn hex_beam() -> (Substructure, Model) {
