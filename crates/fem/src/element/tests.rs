@@ -89,6 +89,18 @@ fn beta_l(lambda: f64, ei: f64, rho_a: f64, l: f64) -> f64 {
     (lambda.sqrt() * (rho_a * l.powi(4) / ei).sqrt()).sqrt()
 }
 
+/// Asserts that the eigenvalues `lambdas` give the `exact` values of beta L
+/// (beam theory of the `case`) to 1e-4.
+fn assert_beta_l(lambdas: &[f64], exact: [f64; 3], ei: f64, rho_a: f64, l: f64, case: &str) {
+    for (lam, exact) in lambdas.iter().zip(exact) {
+        let b = beta_l(*lam, ei, rho_a, l);
+        assert!(
+            (b - exact).abs() / exact < 1e-4,
+            "{case} beta L {b} vs {exact}"
+        );
+    }
+}
+
 #[test]
 fn planar_free_free_and_cantilever_frequencies_converge() {
     let l = 2.0;
@@ -107,28 +119,24 @@ fn planar_free_free_and_cantilever_frequencies_converge() {
     );
     // Two rigid-body modes (heave, pitch), then the elastic ones.
     assert!(free[0].abs() < 1e-6 * free[2] && free[1].abs() < 1e-6 * free[2]);
-    for (lam, exact) in free[2..5]
-        .iter()
-        .zip([4.730_040_745, 7.853_204_624, 10.995_607_838])
-    {
-        let b = beta_l(*lam, ei, rho_a, l);
-        assert!(
-            (b - exact).abs() / exact < 1e-4,
-            "free-free beta L {b} vs {exact}"
-        );
-    }
+    assert_beta_l(
+        &free[2..5],
+        [4.730_040_745, 7.853_204_624, 10.995_607_838],
+        ei,
+        rho_a,
+        l,
+        "free-free",
+    );
     let clamped =
         eigenvalues(&assemble(&cantilever(40, l, true, BeamTheory::EulerBernoulli)).unwrap());
-    for (lam, exact) in clamped[..3]
-        .iter()
-        .zip([1.875_104_069, 4.694_091_133, 7.854_757_438])
-    {
-        let b = beta_l(*lam, ei, rho_a, l);
-        assert!(
-            (b - exact).abs() / exact < 1e-4,
-            "cantilever beta L {b} vs {exact}"
-        );
-    }
+    assert_beta_l(
+        &clamped[..3],
+        [1.875_104_069, 4.694_091_133, 7.854_757_438],
+        ei,
+        rho_a,
+        l,
+        "cantilever",
+    );
 }
 
 #[test]
