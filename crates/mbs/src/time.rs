@@ -16,7 +16,6 @@ use crate::system::{Assembled, Kinematics, System};
 use crate::MbsError;
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 
@@ -557,54 +556,16 @@ fn force_row(
         connection: f.name.clone(),
         what: "force direction is zero".into(),
     })?;
+    if let Endpoint::Ground | Endpoint::Track { .. } = f.at {
+        return Err(MbsError::Invalid {
+            connection: f.name.clone(),
+            what: "a force must act on a body".into(),
+        });
+    }
+    let (rows, _) = system.endpoint(&f.name, &f.at, d, layout)?;
     let mut row = Row::new();
-    match &f.at {
-        Endpoint::Flexible { body, node } => {
-            let b = system
-                .flexible
-                .get(*body)
-                .ok_or(MbsError::UnknownFlexibleBody {
-                    connection: f.name.clone(),
-                    body: *body,
-                })?;
-            for (a, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
-                .into_iter()
-                .enumerate()
-            {
-                if d[a] == 0.0 {
-                    continue;
-                }
-                let r = b
-                    .dof_row(Dof::new(*node, kind))
-                    .ok_or(MbsError::MissingDof {
-                        connection: f.name.clone(),
-                        node: *node,
-                        dof: kind.name(),
-                    })?;
-                row.extend(
-                    r.into_iter()
-                        .map(|(i, v)| (i + layout.flexible[*body], d[a] * v)),
-                );
-            }
-        }
-        Endpoint::Rigid { body, point } => {
-            let b = system.rigid.get(*body).ok_or(MbsError::UnknownRigidBody {
-                connection: f.name.clone(),
-                body: *body,
-            })?;
-            for (a, r) in b.point_rows(*point).into_iter().enumerate() {
-                row.extend(
-                    r.into_iter()
-                        .map(|(i, v)| (i + layout.rigid[*body], d[a] * v)),
-                );
-            }
-        }
-        Endpoint::Ground | Endpoint::Track { .. } => {
-            return Err(MbsError::Invalid {
-                connection: f.name.clone(),
-                what: "a force must act on a body".into(),
-            })
-        }
+    for (r, da) in rows.into_iter().zip(d) {
+        row.extend(r.into_iter().map(|(i, v)| (i, da * v)));
     }
     Ok(row)
 }
@@ -652,6 +613,7 @@ fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
 mod tests {
     use super::*;
     use crate::{harmonic_response, Connection, ForceLaw, RigidBody, Track};
+    use flexbody_fem::DofKind;
 
     fn mass(name: &str, m: f64, z: f64) -> RigidBody {
         RigidBody {
