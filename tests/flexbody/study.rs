@@ -7,7 +7,7 @@ use flexbody::linalg::sparse::{max_abs, project};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::harmonic_section_forces;
 use flexbody::reduce::{reduce, Method, Reduction};
-use flexbody::scenario::{parse_model_file, read_model_file, CaseSpec, StudySpec};
+use flexbody::scenario::{parse_model_file, read_model_file, StudySpec};
 use flexbody::study::{respond, run_cases, run_study, CaseRow};
 
 pub(super) const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
@@ -105,26 +105,10 @@ fn complete_bases_reproduce_the_full_model() {
     let spec = StudySpec {
         omegas: vec![STATIC, HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::CraigBampton,
-                modes: 38,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 36,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::ElasticResidual,
-                modes: 38,
-                fmax: None,
-            },
+            super::case(Method::Free, 42),
+            super::case(Method::CraigBampton, 38),
+            super::case(Method::FreeResidual, 36),
+            super::case(Method::ElasticResidual, 38),
         ],
     };
     for c in run_cases(&file, &spec).unwrap().rows() {
@@ -209,16 +193,8 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
     let spec = StudySpec {
         omegas: vec![20.0, 60.0, HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 1,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
+            super::case(Method::FreeResidual, 1),
+            super::case(Method::Free, 42),
         ],
     };
     let rows = run_cases(&file, &spec).unwrap().rows();
@@ -323,16 +299,8 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
     let spec = StudySpec {
         omegas: vec![HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 1,
-                fmax: None,
-            },
+            super::case(Method::Free, 42),
+            super::case(Method::FreeResidual, 1),
         ],
     };
     let result = run_cases(&file, &spec).unwrap();
