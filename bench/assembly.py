@@ -10,31 +10,23 @@ their ratios. Both run as child processes measured the same way. CalculiX
 also writes its matrices as text; that time is part of its figure.
 Needs: cargo, python3, ccx (installed with apt-get when missing and root).
 """
-import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
 
+from measure import run_child
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def measured(cmd, cwd, env=None):
     """Runs cmd in a fresh Python child so its max RSS is its own."""
-    code = (
-        "import resource,subprocess,sys,time,json\n"
-        "t=time.perf_counter()\n"
-        "p=subprocess.run(sys.argv[1:],capture_output=True,text=True)\n"
-        "dt=time.perf_counter()-t\n"
-        "print(json.dumps({'rc':p.returncode,'s':dt,'kb':resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,"
-        "'out':p.stdout[-4000:],'err':p.stderr[-4000:]}))\n"
-    )
-    p = subprocess.run([sys.executable, "-c", code] + cmd, cwd=cwd, env=env, capture_output=True, text=True)
-    r = json.loads(p.stdout)
+    r = run_child(cmd, cwd, env, 4000)
     if r["rc"] != 0:
         sys.exit("%s failed (%d):\n%s\n%s" % (" ".join(cmd), r["rc"], r["out"], r["err"]))
-    return r["s"], r["kb"] / 1024.0 / 1024.0, r["out"]
+    return r["s"], r["gib"], r["out"]
 
 
 def main():

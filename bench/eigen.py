@@ -32,6 +32,8 @@ import re
 import subprocess
 import sys
 
+from measure import run_child
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COUNT = 26  # 6 rigid + 20 elastic
 # type -> target DOFs -> (nx, ny, nz) of a one-element-wall box section,
@@ -72,20 +74,11 @@ def measured(cmd, cwd, env=ENV):
 
 def measured_once(cmd, cwd, env):
     """One run of cmd in a fresh Python child."""
-    code = (
-        "import resource,subprocess,sys,time,json\n"
-        "t=time.perf_counter()\n"
-        "p=subprocess.run(sys.argv[1:],capture_output=True,text=True)\n"
-        "dt=time.perf_counter()-t\n"
-        "print(json.dumps({'rc':p.returncode,'s':dt,'kb':resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss,"
-        "'out':p.stdout[-20000:],'err':p.stderr[-20000:]}))\n"
-    )
-    p = subprocess.run([sys.executable, "-c", code] + cmd, cwd=cwd, env=env, capture_output=True, text=True)
-    r = json.loads(p.stdout)
+    r = run_child(cmd, cwd, env, 20000)
     if r["rc"] != 0:
         print("%s failed (%d):\n%s\n%s" % (" ".join(cmd), r["rc"], r["out"][-2000:], r["err"][-2000:]))
         return None
-    return r["s"], r["kb"] / 1024.0 / 1024.0, r["out"], r["err"]
+    return r["s"], r["gib"], r["out"], r["err"]
 
 
 SCIPY = r'''

@@ -190,15 +190,6 @@ pub fn simulation_body(
     }
 }
 
-fn system<'a>(file: &ModelFile, body: FlexibleBody<'a>) -> System<'a> {
-    System {
-        flexible: vec![body],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    }
-}
-
 /// Runs the `[simulation]` of `file` with `body` (a reduced body or the full
 /// model) and returns its histories.
 pub fn run_simulation(
@@ -209,7 +200,7 @@ pub fn run_simulation(
         .simulation
         .as_ref()
         .ok_or_else(|| SimulationError::NoSimulation(file.path.display().to_string()))?;
-    let sys = system(file, body);
+    let sys = file.system(body);
     let response = simulate(&sys, &spec.excitation, &spec.settings, None)?;
     let mut h = histories(file, &sys, &response, &spec.record)?;
     if !spec.record_nodes.is_empty() {
@@ -358,7 +349,7 @@ pub fn run_frf(file: &ModelFile, body: FlexibleBody<'_>) -> Result<Transfer, Sim
         .as_ref()
         .map(|s| s.record.clone())
         .unwrap_or_default();
-    let sys = system(file, body);
+    let sys = file.system(body);
     let amplitude = file.track.map_or(1.0, |t| t.amplitude);
     let [lo, hi] = spec.band_hz;
     let freqs: Vec<f64> = (0..spec.points)
@@ -409,7 +400,7 @@ pub fn coupled_modes(
     file: &ModelFile,
     body: FlexibleBody<'_>,
 ) -> Result<Vec<DampedMode>, SimulationError> {
-    Ok(damped_modes(&system(file, body))?)
+    Ok(damped_modes(&file.system(body))?)
 }
 
 /// Writes columns as CSV (atomically): the `x` column titled `x_name`

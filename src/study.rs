@@ -13,7 +13,7 @@
 
 use crate::fem::FemError;
 use crate::fem::{DofKind, Substructure};
-use crate::mbs::{harmonic_response, FlexibleBody, MbsError, System};
+use crate::mbs::{harmonic_response, FlexibleBody, MbsError};
 use crate::recover::{harmonic_section_forces, nodal_values};
 use crate::reduce::{reduce, Method, ReduceError};
 use crate::scenario::{CaseSpec, ModelFile, StudySpec};
@@ -300,12 +300,7 @@ pub fn respond(
     body: FlexibleBody<'_>,
     omega: f64,
 ) -> Result<BeamResponse, ResponseError> {
-    let system = System {
-        flexible: vec![body],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    };
+    let system = file.system(body);
     let response = harmonic_response(&system, omega)?;
     let (u_re, u_im) = &response.flexible[0];
     let model = &file.model;

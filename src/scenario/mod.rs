@@ -20,7 +20,7 @@ use flexbody_fem::{Dof, Model};
 use flexbody_io::model_toml::{parse_model_toml, ModelToml};
 use flexbody_io::{InputError, TomlSource};
 use flexbody_mbs::time::{Excitation, TimeSettings};
-use flexbody_mbs::{Connection, Endpoint, RigidBody, Track};
+use flexbody_mbs::{Connection, Endpoint, FlexibleBody, RigidBody, System, Track};
 use flexbody_reduce::{ForceGroup, GroundSpring, Method};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -101,6 +101,17 @@ pub struct FrfSpec {
 }
 
 impl ModelFile {
+    /// The MBS of this file around `body`, its one flexible body: the
+    /// file's rigid bodies, connections and track.
+    pub fn system<'a>(&self, body: FlexibleBody<'a>) -> System<'a> {
+        System {
+            flexible: vec![body],
+            rigid: self.rigid_bodies.clone(),
+            connections: self.connections.clone(),
+            track: self.track,
+        }
+    }
+
     /// The connections as springs to ground at their flexible node: the
     /// elastic support of the `elastic-residual` method (report Bild 8:
     /// the other ends held; nonlinear laws with their stiffness at rest).

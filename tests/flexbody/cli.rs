@@ -1,6 +1,8 @@
 //! The `flexbody` command: its outputs, files and logs.
 
-use super::support::{fails_with, flexbody, solid_side_beam, stderr};
+use super::support::{
+    fails_with, flexbody, hex_beam_deck, reduce_args, run_ok, solid_side_beam, stderr, stdout_json,
+};
 use std::process::Command;
 
 #[test]
@@ -8,15 +10,14 @@ fn study_json_lists_every_case_and_plots_are_written() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("plots");
     let model = super::side_beam_path();
-    let o = flexbody(&[
+    let o = run_ok(&[
         "study",
         model.to_str().unwrap(),
         "--json",
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let doc = stdout_json(&o);
     let cases = doc["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 14);
     let fr = cases
@@ -50,19 +51,10 @@ fn reduce_writes_the_body_and_compares_frequencies() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("body.json");
     let model = super::side_beam_path();
-    let o = flexbody(&[
-        "reduce",
-        model.to_str().unwrap(),
-        "--method",
-        "free-residual",
-        "--modes",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let reduce = |extra: &[&str]| flexbody(&reduce_args(&model, "free-residual", "1", &out, extra));
+    let o = reduce(&["--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let doc = stdout_json(&o);
     assert_eq!(doc["r"], 7);
     let full: Vec<f64> = serde_json::from_value(doc["full_hz"].clone()).unwrap();
     let reduced: Vec<f64> = serde_json::from_value(doc["reduced_hz"].clone()).unwrap();
@@ -78,37 +70,14 @@ fn reduce_writes_the_body_and_compares_frequencies() {
     assert_eq!(body.r(), 7);
     // Without the check, the full model is not solved again, and K and M
     // are handed over to the reduction (`Keep::Neither`): the same body.
-    let o = flexbody(&[
-        "reduce",
-        model.to_str().unwrap(),
-        "--method",
-        "free-residual",
-        "--modes",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-        "--check",
-        "never",
-    ]);
+    let o = reduce(&["--json", "--check", "never"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let doc = stdout_json(&o);
     assert!(doc["full_hz"].is_null());
     let again: Vec<f64> = serde_json::from_value(doc["reduced_hz"].clone()).unwrap();
     assert_eq!(again, reduced);
     // The table says why there is no comparison: the option, not the size.
-    let o = flexbody(&[
-        "reduce",
-        model.to_str().unwrap(),
-        "--method",
-        "free-residual",
-        "--modes",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--check",
-        "never",
-    ]);
+    let o = reduce(&["--check", "never"]);
     let table = String::from_utf8_lossy(&o.stdout);
     assert!(
         table.contains("(no comparison with the full model: --check never)"),
@@ -119,9 +88,8 @@ fn reduce_writes_the_body_and_compares_frequencies() {
 #[test]
 fn modes_json_gives_frequencies_and_residuals() {
     let model = super::side_beam_path();
-    let o = flexbody(&["modes", model.to_str().unwrap(), "--count", "4", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = run_ok(&["modes", model.to_str().unwrap(), "--count", "4", "--json"]);
+    let doc = stdout_json(&o);
     assert_eq!(doc["dofs"], 42);
     let f: Vec<f64> = serde_json::from_value(doc["frequencies_hz"].clone()).unwrap();
     let res: Vec<f64> = serde_json::from_value(doc["residuals"].clone()).unwrap();
@@ -139,30 +107,26 @@ fn modes_json_gives_frequencies_and_residuals() {
 #[test]
 fn reduce_writes_sid_mtx_and_vtu_and_inspect_reads_them() {
     let dir = tempfile::tempdir().unwrap();
-    let deck = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
+    let deck = hex_beam_deck();
     let (sid, vtu, mtx) = (
         dir.path().join("b.sid"),
         dir.path().join("b.vtu"),
         dir.path().join("b_mtx"),
     );
-    let o = flexbody(&[
-        "reduce",
-        deck.to_str().unwrap(),
-        "--method",
+    run_ok(&reduce_args(
+        &deck,
         "free-residual",
-        "--modes",
         "2",
-        "--interface",
-        "1,13",
-        "--format",
-        "sid",
-        "--out",
-        sid.to_str().unwrap(),
-        "--vtu",
-        vtu.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+        &sid,
+        &[
+            "--interface",
+            "1,13",
+            "--format",
+            "sid",
+            "--vtu",
+            vtu.to_str().unwrap(),
+        ],
+    ));
     let o = flexbody(&["inspect", sid.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -172,21 +136,13 @@ fn reduce_writes_sid_mtx_and_vtu_and_inspect_reads_them() {
     assert!(std::fs::read_to_string(&vtu)
         .unwrap()
         .contains("UnstructuredGrid"));
-    let o = flexbody(&[
-        "reduce",
-        deck.to_str().unwrap(),
-        "--method",
+    run_ok(&reduce_args(
+        &deck,
         "craig-bampton",
-        "--modes",
         "2",
-        "--interface",
-        "1,13,79",
-        "--format",
-        "mtx",
-        "--out",
-        mtx.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+        &mtx,
+        &["--interface", "1,13,79", "--format", "mtx"],
+    ));
     let o = flexbody(&["inspect", mtx.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("craig-bampton"));
     fails_with(
@@ -220,21 +176,13 @@ fn a_sid_from_the_handed_over_stiffness_equals_the_one_from_kept_matrices() {
     let model = solid_side_beam();
     let sid = |check: &str| {
         let out = dir.path().join(format!("{check}.sid"));
-        let o = flexbody(&[
-            "reduce",
-            model.to_str().unwrap(),
-            "--method",
+        let o = run_ok(&reduce_args(
+            &model,
             "free-residual",
-            "--modes",
             "6",
-            "--format",
-            "sid",
-            "--check",
-            check,
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
+            &out,
+            &["--format", "sid", "--check", check],
+        ));
         (std::fs::read(&out).unwrap(), o.stdout)
     };
     let (given, table) = sid("never");
@@ -323,7 +271,7 @@ fn frf_full_on_a_model_beyond_the_dense_solver_skips_the_damped_modes_by_name() 
     )
     .unwrap();
     let out = dir.path().join("out");
-    let o = flexbody(&[
+    let o = run_ok(&[
         "frf",
         model.to_str().unwrap(),
         "--out",
@@ -331,7 +279,6 @@ fn frf_full_on_a_model_beyond_the_dense_solver_skips_the_damped_modes_by_name() 
         "--full",
     ]);
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout.contains("not computed"), "{stdout}");
     assert!(stdout.contains("dense eigen solver, which stops at 6000"));
     assert!(out.join("frf.csv").exists());

@@ -1,25 +1,36 @@
 //! The `flexbody` command on bad input: exit code 2, a message naming file
 //! and line, never a panic.
 
-use super::support::{fails_with, flexbody, stderr, variant};
+use super::support::{
+    fails_with, flexbody, hex_beam_deck, mid_span_interface, reduce_args, run_ok, stderr, variant,
+};
+
+/// `flexbody study` on the side beam with `from` replaced by `to` (written
+/// as `name`) fails with all `needles`.
+fn study_of_variant_fails_with(name: &str, from: &str, to: &str, needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let m = variant(dir.path(), name, from, to);
+    fails_with(&["study", &m], needles);
+}
 
 #[test]
 fn a_connection_to_a_missing_node_names_it_and_the_line() {
-    let dir = tempfile::tempdir().unwrap();
-    let m = variant(dir.path(), "m.toml", "node = 21", "node = 99");
-    fails_with(&["study", &m], &["m.toml:53:", "node 99", "does not exist"]);
+    study_of_variant_fails_with(
+        "m.toml",
+        "node = 21",
+        "node = 99",
+        &["m.toml:53:", "node 99", "does not exist"],
+    );
 }
 
 #[test]
 fn a_negative_density_names_the_line() {
-    let dir = tempfile::tempdir().unwrap();
-    let m = variant(
-        dir.path(),
+    study_of_variant_fails_with(
         "m.toml",
         "density = 6800.0",
         "density = -6800.0",
+        &["m.toml:9:", "density"],
     );
-    fails_with(&["study", &m], &["m.toml:9:", "density"]);
 }
 
 #[test]
@@ -36,37 +47,21 @@ fn unknown_methods_are_refused() {
         ],
         &["unknown method 'hurty'", "free-residual"],
     );
-    let dir = tempfile::tempdir().unwrap();
-    let m = variant(
-        dir.path(),
+    study_of_variant_fails_with(
         "m2.toml",
         "{ method = \"free\", modes = 7 }",
         "{ method = \"hurty\", modes = 7 }",
+        &["m2.toml:", "unknown variant `hurty`"],
     );
-    fails_with(&["study", &m], &["m2.toml:", "unknown variant `hurty`"]);
 }
 
 #[test]
 fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
     let dir = tempfile::tempdir().unwrap();
-    let m = variant(
-        dir.path(),
-        "m.toml",
-        "[track]",
-        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
-    );
+    let m = mid_span_interface(dir.path());
     let out = dir.path().join("b.json");
     fails_with(
-        &[
-            "reduce",
-            &m,
-            "--method",
-            "craig-bampton",
-            "--modes",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+        &reduce_args(&m, "craig-bampton", "1", &out, &[]),
         &["mechanism", "K_NN is singular", "node 1 uz", "node 21 uz"],
     );
     assert!(!out.exists());
@@ -125,8 +120,7 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
              *SOLID SECTION, ELSET=E, MATERIAL=STEEL\n";
     std::fs::write(&deck, &text).unwrap();
     let deck = deck.to_str().unwrap();
-    let o = flexbody(&["modes", deck, "--count", "14"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run_ok(&["modes", deck, "--count", "14"]);
     assert!(
         stderr(&o).contains("12 modes have zero frequency, more than the 6 rigid-body motions"),
         "{}",
@@ -137,18 +131,7 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
     let out = dir.path().join("b.json");
     for method in ["free", "free-residual"] {
         fails_with(
-            &[
-                "reduce",
-                deck,
-                "--method",
-                method,
-                "--modes",
-                "6",
-                "--interface",
-                "1",
-                "--out",
-                out.to_str().unwrap(),
-            ],
+            &reduce_args(deck, method, "6", &out, &["--interface", "1"]),
             &["12 zero-frequency modes but only 6 rigid-body modes"],
         );
     }
@@ -159,8 +142,7 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
     let held = dir.path().join("held.inp");
     let hold = |nodes: &[u32]| -> String { nodes.iter().map(|n| format!("{n}, 1, 3\n")).collect() };
     std::fs::write(&held, format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5]))).unwrap();
-    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run_ok(&["modes", held.to_str().unwrap(), "--count", "8"]);
     assert!(
         stderr(&o).contains("6 modes have zero frequency although the model is held"),
         "{}",
@@ -171,8 +153,7 @@ fn two_unconnected_cubes_are_a_mechanism_named_with_its_zero_modes() {
         format!("{text}*BOUNDARY\n{}", hold(&[1, 2, 4, 5, 11, 12, 14, 15])),
     )
     .unwrap();
-    let o = flexbody(&["modes", held.to_str().unwrap(), "--count", "8"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run_ok(&["modes", held.to_str().unwrap(), "--count", "8"]);
     assert!(!stderr(&o).contains("zero frequency"), "{}", stderr(&o));
 }
 
@@ -181,29 +162,16 @@ fn reduce_refuses_an_output_it_cannot_write_before_it_reduces() {
     // Each of these once failed only after the reduction, the last one
     // with the body already written: at 1e6 DOFs, ten minutes later.
     let dir = tempfile::tempdir().unwrap();
-    let fixtures = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/calculix/hex_beam");
-    let deck = fixtures.join("hex_beam.inp");
-    let sti = fixtures.join("hex_beam.sti");
+    let deck = hex_beam_deck();
+    let sti = deck.with_extension("sti");
     let (deck, sti) = (deck.to_str().unwrap(), sti.to_str().unwrap());
     let body = dir.path().join("b.json");
     let a_file = dir.path().join("a_file");
     std::fs::write(&a_file, "x").unwrap();
     let folder = dir.path().to_str().unwrap();
     let reduce = |model: &str, out: &str, extra: &[&str], needles: &[&str]| {
-        let mut args = vec![
-            "reduce",
-            model,
-            "--method",
-            "craig-bampton",
-            "--modes",
-            "2",
-            "--interface",
-            "1,13",
-            "--out",
-            out,
-        ];
-        args.extend_from_slice(extra);
+        let mut args = reduce_args(model, "craig-bampton", "2", out, &["--interface", "1,13"]);
+        args.extend(extra.iter().map(|a| a.to_string()));
         fails_with(&args, needles);
     };
     let missing = dir.path().join("none/b.json");

@@ -1,7 +1,9 @@
 //! `flexbody modes` on the solid side beam (the sparse solver): counts,
 //! frequency bands, and agreement with the dense solver.
 
-use super::support::{fails_with, flexbody, solid_side_beam, stderr};
+use super::support::{
+    fails_with, flexbody, reduce_args, run_ok, solid_side_beam, stderr, stdout_json,
+};
 
 #[test]
 fn many_modes_of_the_solid_converge_to_the_dense_ones() {
@@ -17,9 +19,8 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
     // at the first shift give residuals of 2e-8 and agree to 3e-12.
     let model = solid_side_beam();
     let run = |count: &str| -> (Vec<f64>, Vec<f64>) {
-        let o = flexbody(&["modes", model.to_str().unwrap(), "--json", "--count", count]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let o = run_ok(&["modes", model.to_str().unwrap(), "--json", "--count", count]);
+        let doc = stdout_json(&o);
         let get = |k: &str| serde_json::from_value(doc[k].clone()).unwrap();
         (get("frequencies_hz"), get("residuals"))
     };
@@ -35,19 +36,13 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("body.json");
     for modes in ["1500", "200"] {
-        let o = flexbody(&[
-            "reduce",
-            model.to_str().unwrap(),
-            "--method",
+        run_ok(&reduce_args(
+            &model,
             "free-residual",
-            "--modes",
             modes,
-            "--out",
-            out.to_str().unwrap(),
-            "--check",
-            "never",
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
+            &out,
+            &["--check", "never"],
+        ));
     }
     let body: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
@@ -61,9 +56,7 @@ fn many_modes_of_the_solid_converge_to_the_dense_ones() {
 fn modes_json(model: &std::path::Path, extra: &[&str]) -> (Vec<f64>, Vec<f64>) {
     let mut args = vec!["modes", model.to_str().unwrap(), "--json"];
     args.extend_from_slice(extra);
-    let o = flexbody(&args);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let doc = stdout_json(&run_ok(&args));
     let column = |key: &str| serde_json::from_value::<Vec<f64>>(doc[key].clone()).unwrap();
     (column("frequencies_hz"), column("residuals"))
 }

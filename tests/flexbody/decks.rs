@@ -6,8 +6,8 @@ use flexbody::fem::{DofKind, Element};
 use flexbody::input::{load, MatrixFiles};
 use flexbody::recover::{nodal_stresses, ModalStress};
 use flexbody::reduce::{reduce, Method, ModeKind, Reduction};
+use std::ffi::OsStr;
 use std::path::PathBuf;
-use std::process::Command;
 
 fn fixture(name: &str, ext: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -23,11 +23,8 @@ fn ccx_frequencies(name: &str) -> Vec<f64> {
     text.lines().filter_map(|l| l.trim().parse().ok()).collect()
 }
 
-fn flexbody(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .args(args)
-        .output()
-        .unwrap();
+fn flexbody<S: AsRef<OsStr>>(args: &[S]) -> (i32, String, String) {
+    let o = super::support::flexbody(args);
     (
         o.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&o.stdout).into_owned(),
@@ -107,19 +104,13 @@ fn reduce_and_info_work_on_decks_and_matrices_from_the_command_line() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("tet.json");
     let deck = fixture("tet_beam", "inp");
-    let (code, stdout, err) = flexbody(&[
-        "reduce",
-        deck.to_str().unwrap(),
-        "--method",
+    let (code, stdout, err) = flexbody(&super::support::reduce_args(
+        &deck,
         "free-residual",
-        "--modes",
         "2",
-        "--interface",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+        &out,
+        &["--interface", "1", "--json"],
+    ));
     assert_eq!(code, 0, "{err}");
     assert!(
         err.contains("ignored *STEP"),

@@ -2,7 +2,7 @@
 //! with exit code 2 (or its typed error, for the library), names what is
 //! wrong, and leaves no output behind.
 
-use super::support::{fails_with, flexbody, stderr};
+use super::support::{fails_with, flexbody, mid_span_interface, reduce_args, run_ok, stderr};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::reduce::{reduce, ForceGroup, Method, ReduceError, Reduction};
 use flexbody::scenario::read_model_file;
@@ -81,19 +81,8 @@ fn an_indefinite_stiffness_is_an_error_that_counts_its_negative_eigenvalues() {
         assert!(low <= bound && bound <= high, "{modes} modes: {bound:e}");
     }
     let out = dir.path().join("body.json");
-    let mut args = vec![
-        "reduce",
-        k.as_str(),
-        "--method",
-        "craig-bampton",
-        "--modes",
-        "2",
-        "--interface",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    args.extend(matrices);
+    let mut args = reduce_args(&k, "craig-bampton", "2", &out, &["--interface", "1"]);
+    args.extend(matrices.map(String::from));
     fails_with(&args, &needles);
     assert!(!out.exists());
     // Nothing else is left beside the inputs.
@@ -104,8 +93,7 @@ fn an_indefinite_stiffness_is_an_error_that_counts_its_negative_eigenvalues() {
     assert_eq!(negative, 0);
     let mut args = vec!["modes", k.as_str(), "--count", "2"];
     args.extend(matrices);
-    let o = flexbody(&args);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_ok(&args);
 }
 
 /// The vehicle example with each `(from, to)` replaced once, written to
@@ -197,26 +185,11 @@ fn guyan_and_elastic_residual_name_the_dofs_an_interface_leaves_free() {
     // One interface DOF at mid-span holds heave but not pitch: K_NN is
     // singular, and the beam's ends move most in the pitch about node 11.
     let dir = tempfile::tempdir().unwrap();
-    let text = super::side_beam_text().replacen(
-        "[track]",
-        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
-        1,
-    );
-    let model = dir.path().join("m.toml");
-    std::fs::write(&model, text).unwrap();
+    let model = mid_span_interface(dir.path());
     let out = dir.path().join("b.json");
     for (method, modes) in [("guyan", "0"), ("elastic-residual", "1")] {
         fails_with(
-            &[
-                "reduce",
-                model.to_str().unwrap(),
-                "--method",
-                method,
-                "--modes",
-                modes,
-                "--out",
-                out.to_str().unwrap(),
-            ],
+            &reduce_args(&model, method, modes, &out, &[]),
             &[
                 "the interface DOFs (node 11 uz) leave a mechanism",
                 "node 1 uz",

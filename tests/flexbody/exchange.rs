@@ -2,11 +2,9 @@
 //! files, the JSON file, the Matrix Market folder, the VTU file and format
 //! detection.
 
-use super::support::{hex_beam, reduce_with};
+use super::support::{hex_beam, reduce_with, side_beam_json};
 use flexbody::export::sid::{parse_sid, read_sid, write_sid};
-use flexbody::export::{
-    read_any, read_json, summary, vtk, write_json, AnyBody, ExportError, Format,
-};
+use flexbody::export::{read_any, read_json, summary, vtk, AnyBody, ExportError, Format};
 use flexbody::fem::{Model, Substructure};
 use flexbody::output;
 use flexbody::reduce::{Method, ReducedBody};
@@ -31,10 +29,17 @@ fn write_vtu(model: &Model, body: &ReducedBody, path: &Path) -> Result<(), Expor
     vtk::write_vtu(model, &output::mode_fields(model, body).unwrap(), path)
 }
 
-#[test]
-fn sid_round_trip_keeps_every_number() {
+/// The hex-element beam, its mesh, and its free-residual body of 2
+/// eigenmodes with the tip node 13 as interface.
+fn hex_beam_body() -> (Substructure, Model, ReducedBody) {
     let (sub, model) = hex_beam();
     let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
+    (sub, model, body)
+}
+
+#[test]
+fn sid_round_trip_keeps_every_number() {
+    let (sub, model, body) = hex_beam_body();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.sid");
     let sid = output::sid(&sub, Some(&model), &body).unwrap();
@@ -72,8 +77,7 @@ fn sid_round_trip_keeps_every_number() {
 
 #[test]
 fn broken_sid_files_name_the_block_and_line() {
-    let (sub, _) = hex_beam();
-    let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
+    let (sub, _, body) = hex_beam_body();
     let text = output::sid(&sub, None, &body).unwrap().to_text();
 
     // Truncated inside Ke.
@@ -122,10 +126,7 @@ fn ke_line(text: &str, line: &str) -> bool {
 
 #[test]
 fn broken_json_files_name_the_block_and_line() {
-    let (_, _, body) = super::side_beam_body(Method::FreeResidual, 1);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("body.json");
-    write_json(&body, &path).unwrap();
+    let (dir, path, _) = side_beam_json(Method::FreeResidual, 1);
     let text = std::fs::read_to_string(&path).unwrap();
 
     let cut = text.find("\"basis\"").unwrap() + 200;
@@ -249,8 +250,7 @@ fn summary_names_r_mass_interface_and_frequencies() {
 
 #[test]
 fn vtu_holds_the_mesh_the_modes_and_the_stresses() {
-    let (sub, model) = hex_beam();
-    let body = reduce_with(&sub, Method::FreeResidual, 2, &[13]);
+    let (_, model, body) = hex_beam_body();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.vtu");
     write_vtu(&model, &body, &path).unwrap();

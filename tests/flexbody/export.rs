@@ -1,14 +1,12 @@
 //! Reduced-body files: a JSON round trip, and clear errors for broken files.
 
+use super::support::side_beam_json;
 use flexbody::export::{read_json, write_json, ExportError};
 use flexbody::reduce::Method;
 
 #[test]
 fn json_round_trip_keeps_every_number() {
-    let (_, _, body) = super::side_beam_body(Method::FreeResidual, 1);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("body.json");
-    write_json(&body, &path).unwrap();
+    let (dir, path, body) = side_beam_json(Method::FreeResidual, 1);
     let back = read_json(&path).unwrap();
     assert_eq!(back.r(), 7);
     assert_eq!(back.basis, body.basis);
@@ -23,10 +21,7 @@ fn json_round_trip_keeps_every_number() {
 
 #[test]
 fn broken_files_are_reported_with_what_is_wrong() {
-    let (_, _, body) = super::side_beam_body(Method::Guyan, 0);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("body.json");
-    write_json(&body, &path).unwrap();
+    let (dir, path, _) = side_beam_json(Method::Guyan, 0);
     let text = std::fs::read_to_string(&path).unwrap();
 
     let truncated = dir.path().join("truncated.json");

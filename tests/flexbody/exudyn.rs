@@ -1,7 +1,7 @@
 //! Exudyn reading the SID file (`scripts/exudyn_check.py`) agrees with
 //! flexbody.
 
-use super::support::{hex_beam, reduce_with};
+use super::support::{hex_beam, hex_beam_deck, reduce_args, reduce_with, run_ok};
 use flexbody::fem::{Dof, DofKind};
 use flexbody::reduce::{Method, ReducedBody};
 use std::path::PathBuf;
@@ -86,29 +86,13 @@ fn write_exudyn_data(dir: &std::path::Path) {
     std::fs::create_dir_all(dir).unwrap();
     let (sub, _) = hex_beam();
     let tip = 13;
-    let deck = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .arg("reduce")
-        .arg(&deck)
-        .args(["--interface", &tip.to_string()])
-        .args([
-            "--method",
-            "free-residual",
-            "--modes",
-            "4",
-            "--format",
-            "sid",
-        ])
-        .arg("--out")
-        .arg(dir.join("body.sid"))
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "flexbody reduce: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    run_ok(&reduce_args(
+        hex_beam_deck(),
+        "free-residual",
+        "4",
+        dir.join("body.sid"),
+        &["--interface", &tip.to_string(), "--format", "sid"],
+    ));
     let body = reduce_with(&sub, Method::FreeResidual, 4, &[tip]);
     let basis = elastic_basis(&sub, &body).unwrap();
     let nq = basis.shapes.ncols();

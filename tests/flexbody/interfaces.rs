@@ -1,6 +1,9 @@
 //! Interface points on solids (RBE2/RBE3), force groups, band selection, and
 //! the report's study on a solid mesh.
 
+use super::support::{
+    max_difference, run_ok, solid_side_beam as solid_path, stdout_json, unit_translation,
+};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::mbs::FlexibleBody;
 use flexbody::reduce::{reduce, ForceGroup, Method, Reduction};
@@ -10,10 +13,6 @@ use std::path::PathBuf;
 
 const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
 const HEAVE: f64 = 122.0;
-
-fn solid_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
-}
 
 fn rows_of(rows: &[CaseRow], method: Method, r: usize) -> Vec<&CaseRow> {
     rows.iter()
@@ -73,18 +72,14 @@ fn the_reports_findings_hold_on_the_solid_side_beam() {
 #[test]
 fn study_json_of_a_solid_reports_interface_forces_and_von_mises() {
     let dir = std::env::temp_dir().join(format!("flexbody-solid-{}", std::process::id()));
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .args([
-            "study",
-            solid_path().to_str().unwrap(),
-            "--json",
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let o = run_ok(&[
+        "study",
+        solid_path().to_str().unwrap(),
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let doc = stdout_json(&o);
     let case = &doc["cases"][0];
     for key in ["method", "r", "omega", "err_w", "err_force", "err_vm"] {
         assert!(!case[key].is_null(), "{key} in {case}");
@@ -222,12 +217,7 @@ fn couplings_change_nothing_but_the_face_in_the_solid_model() {
     .unwrap();
     assert_eq!(rigid.count(), 6);
     let area = 0.24 * 0.20 - 0.216 * 0.176;
-    let ux: Vec<f64> = sub
-        .dof_map
-        .dofs()
-        .iter()
-        .map(|d| (d.kind == DofKind::Ux) as u8 as f64)
-        .collect();
+    let ux = unit_translation(&sub, DofKind::Ux);
     let m = &sub.matrices.mass;
     let x = faer::Mat::from_fn(ux.len(), 1, |i, _| ux[i]);
     let mass = (x.transpose() * (m * &x))[(0, 0)];
@@ -258,12 +248,7 @@ fn solid_stress_histories_of_reduced_and_full_models_agree() {
         let (a, b) = (red.column(&name).unwrap(), full.column(&name).unwrap());
         let peak = b.iter().fold(0.0_f64, |m, v| m.max(*v));
         assert!(peak > 1e6, "the flange is loaded: {peak}");
-        let err = a
-            .iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max)
-            / peak;
+        let err = max_difference(a, b) / peak;
         // measured 3.3e-6 (node 53) and 1.4e-6 (node 557)
         assert!(err < 1.5e-5, "node {node}: {err:e}");
     }

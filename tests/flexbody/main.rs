@@ -33,6 +33,15 @@ pub fn side_beam_text() -> String {
     std::fs::read_to_string(side_beam_path()).expect("examples/side_beam.toml")
 }
 
+/// A study case of `method` with `modes` eigenmodes, no frequency band.
+pub fn case(method: Method, modes: usize) -> CaseSpec {
+    CaseSpec {
+        method,
+        modes,
+        fmax: None,
+    }
+}
+
 /// The side beam, its matrices, and its reduction by `method` with `modes`.
 pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure, ReducedBody) {
     let file = read_model_file(&side_beam_path()).unwrap();

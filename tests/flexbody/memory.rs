@@ -2,7 +2,7 @@
 //! budget is refused before it starts, naming what it needs; `info --factor`
 //! gives the factor's size.
 
-use super::support::{fails_with, flexbody, solid_side_beam, stderr};
+use super::support::{fails_with, flexbody, reduce_args, run_ok, solid_side_beam, stderr};
 use std::path::Path;
 
 #[test]
@@ -13,7 +13,7 @@ fn a_factor_beyond_max_memory_is_refused_before_factorising() {
     let model = solid_side_beam();
     let model = model.to_str().unwrap();
     fails_with(
-        &["--max-memory", "0.001", "modes", model, "--count", "10"],
+        &budgeted_modes("0.001", "10"),
         &[
             "the LDL^T factor of",
             "entries of L) needs",
@@ -25,18 +25,7 @@ fn a_factor_beyond_max_memory_is_refused_before_factorising() {
     let out = dir.path().join("body.json");
     let out = out.to_str().unwrap();
     fails_with(
-        &[
-            "reduce",
-            model,
-            "--method",
-            "free-residual",
-            "--modes",
-            "6",
-            "--out",
-            out,
-            "--max-memory",
-            "0.001",
-        ],
+        &reduce_args(model, "free-residual", "6", out, &["--max-memory", "0.001"]),
         &["entries of L) needs", "--max-memory 1.0 MiB"],
     );
     assert!(!Path::new(out).exists());
@@ -63,10 +52,8 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
     // with a basis of 1264 vectors (17 MB), its factor 1.5 MB. A budget
     // of 25.6 MiB leaves room for the factor, not for both: refused,
     // naming the modes and vectors.
-    let model = solid_side_beam();
-    let model = model.to_str().unwrap();
     fails_with(
-        &["--max-memory", "0.025", "modes", model, "--count", "400"],
+        &budgeted_modes("0.025", "400"),
         &[
             "a Lanczos run for 400 modes (1264 vectors of 1668 equations, \
              with the LDL^T factor's 1.5 MiB) needs",
@@ -80,7 +67,7 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
     // entries, 8 bytes each.
     let (n, lower) = stiffness_pattern(&solid_side_beam());
     assert_eq!(n, 1668);
-    let o = flexbody(&["--max-memory", "0.025", "modes", model, "--count", "400"]);
+    let o = flexbody(&budgeted_modes("0.025", "400"));
     let err = stderr(&o);
     let factor = mib_after(&err, "the LDL^T factor's ");
     assert!(
@@ -101,8 +88,23 @@ fn a_lanczos_basis_beyond_max_memory_is_refused_before_factorising() {
         "needs {needs} MiB = basis {basis} MiB + factor {factor} MiB: {err}"
     );
     // Fewer modes fit the same budget.
-    let o = flexbody(&["--max-memory", "0.025", "modes", model, "--count", "10"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_ok(&budgeted_modes("0.025", "10"));
+}
+
+/// The arguments of `flexbody --max-memory BUDGET modes MODEL --count COUNT`
+/// on the solid side beam.
+fn budgeted_modes(budget: &str, count: &str) -> Vec<String> {
+    let model = solid_side_beam();
+    [
+        "--max-memory",
+        budget,
+        "modes",
+        model.to_str().unwrap(),
+        "--count",
+        count,
+    ]
+    .map(String::from)
+    .to_vec()
 }
 
 const MIB: f64 = (1u64 << 20) as f64;
@@ -137,10 +139,8 @@ fn a_dense_eigen_solve_beyond_max_memory_is_refused_before_it_starts() {
     // 1000 of the 1668 modes of the solid side beam take the dense solver:
     // 12 matrices of 1668 x 1668 (267 MB; the run peaks at 265 MB). A
     // budget of 102 MiB is refused, naming the solve; 0.5 GiB is enough.
-    let model = solid_side_beam();
-    let model = model.to_str().unwrap();
     fails_with(
-        &["--max-memory", "0.1", "modes", model, "--count", "1000"],
+        &budgeted_modes("0.1", "1000"),
         &[
             "the dense eigen solve of 1668 equations (12 matrices of 1668 x 1668) needs",
             "(--max-memory 102.4 MiB with",
@@ -149,15 +149,14 @@ fn a_dense_eigen_solve_beyond_max_memory_is_refused_before_it_starts() {
     // The figure it needs, from the sizes alone: 12 dense matrices of
     // n x n f64 entries (8 bytes each), n = 1668 equations of the mesh.
     let (n, _) = stiffness_pattern(&solid_side_beam());
-    let o = flexbody(&["--max-memory", "0.1", "modes", model, "--count", "1000"]);
+    let o = flexbody(&budgeted_modes("0.1", "1000"));
     let needs = mib_after(&stderr(&o), ") needs ");
     let dense = (12 * n * n * 8) as f64 / MIB;
     assert!(
         (needs - dense).abs() <= 0.05,
         "needs {needs} MiB, 12 n^2 8 bytes = {dense} MiB"
     );
-    let o = flexbody(&["--max-memory", "0.5", "modes", model, "--count", "1000"]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_ok(&budgeted_modes("0.5", "1000"));
 }
 
 #[test]

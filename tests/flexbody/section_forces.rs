@@ -3,6 +3,7 @@
 //! the springs and the inertia.
 
 use super::study::{ELEMENT, HEAVE, RHO_A, STATIC};
+use super::support::unit_translation;
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::{harmonic_section_forces, ModalRecovery};
@@ -15,12 +16,7 @@ fn section_forces_from_ritz_coordinates_equal_those_from_displacements() {
     // Eq. 25 with modal section-force matrices S_K = K_e T_e, S_M = M_e T_e.
     let (file, _, body) = super::side_beam_body(Method::FreeResidual, 1);
     let recovery = ModalRecovery::new(&file.model, &body).unwrap();
-    let system = flexbody::mbs::System {
-        flexible: vec![FlexibleBody::Reduced(&body)],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    };
+    let system = file.system(FlexibleBody::Reduced(&body));
     let r = flexbody::mbs::harmonic_response(&system, HEAVE).unwrap();
     let q = &r.flexible_coords[0].0;
     let q_dd: Vec<f64> = q.iter().map(|v| -HEAVE * HEAVE * v).collect();
@@ -49,12 +45,7 @@ fn section_forces_balance_the_spring_forces() {
     // uz DOFs (M from the assembly, not from the element recovery).
     let file = read_model_file(&super::side_beam_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let ones: Vec<f64> = sub
-        .dof_map
-        .dofs()
-        .iter()
-        .map(|d| (d.kind == DofKind::Uz) as u8 as f64)
-        .collect();
+    let ones = unit_translation(&sub, DofKind::Uz);
     for omega in [STATIC, HEAVE] {
         let full = FlexibleBody::Full {
             dof_map: &sub.dof_map,
@@ -113,15 +104,10 @@ fn full_solution(
     sub: &Substructure,
     omega: f64,
 ) -> (flexbody::mbs::HarmonicResponse, (Vec<f64>, Vec<f64>)) {
-    let system = flexbody::mbs::System {
-        flexible: vec![FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        }],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    };
+    let system = file.system(FlexibleBody::Full {
+        dof_map: &sub.dof_map,
+        matrices: &sub.matrices,
+    });
     let r = flexbody::mbs::harmonic_response(&system, omega).unwrap();
     let u = r.flexible[0].clone();
     (r, u)
@@ -241,12 +227,7 @@ fn section_forces_are_in_equilibrium_with_the_springs_and_the_inertia() {
             "{omega}: full model {full_err:?}"
         );
         // The reduced body in the same MBS, recovered from q alone.
-        let system = flexbody::mbs::System {
-            flexible: vec![FlexibleBody::Reduced(&body)],
-            rigid: file.rigid_bodies.clone(),
-            connections: file.connections.clone(),
-            track: file.track,
-        };
+        let system = file.system(FlexibleBody::Reduced(&body));
         let red = flexbody::mbs::harmonic_response(&system, omega).unwrap();
         let q = &red.flexible_coords[0].0;
         let q_dd: Vec<f64> = q.iter().map(|v| -omega * omega * v).collect();

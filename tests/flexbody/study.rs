@@ -7,7 +7,7 @@ use flexbody::linalg::sparse::{max_abs, project};
 use flexbody::mbs::FlexibleBody;
 use flexbody::recover::harmonic_section_forces;
 use flexbody::reduce::{reduce, Method, Reduction};
-use flexbody::scenario::{parse_model_file, read_model_file, CaseSpec, StudySpec};
+use flexbody::scenario::{parse_model_file, read_model_file, StudySpec};
 use flexbody::study::{respond, run_cases, run_study, CaseRow};
 
 pub(super) const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
@@ -105,26 +105,10 @@ fn complete_bases_reproduce_the_full_model() {
     let spec = StudySpec {
         omegas: vec![STATIC, HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::CraigBampton,
-                modes: 38,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 36,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::ElasticResidual,
-                modes: 38,
-                fmax: None,
-            },
+            super::case(Method::Free, 42),
+            super::case(Method::CraigBampton, 38),
+            super::case(Method::FreeResidual, 36),
+            super::case(Method::ElasticResidual, 38),
         ],
     };
     for c in run_cases(&file, &spec).unwrap().rows() {
@@ -209,20 +193,18 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
     let spec = StudySpec {
         omegas: vec![20.0, 60.0, HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 1,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
+            super::case(Method::FreeResidual, 1),
+            super::case(Method::Free, 42),
         ],
     };
     let rows = run_cases(&file, &spec).unwrap().rows();
-    for c in &rows {
+    assert_errors_below(&rows);
+}
+
+/// The errors of every case in `rows`: those of the complete basis (`free`)
+/// below [`COMPLETE`], the others below 1e-3.
+fn assert_errors_below(rows: &[CaseRow]) {
+    for c in rows {
         let tol = if c.method == Method::Free {
             COMPLETE
         } else {
@@ -317,33 +299,15 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
     let spec = StudySpec {
         omegas: vec![HEAVE],
         cases: vec![
-            CaseSpec {
-                method: Method::Free,
-                modes: 42,
-                fmax: None,
-            },
-            CaseSpec {
-                method: Method::FreeResidual,
-                modes: 1,
-                fmax: None,
-            },
+            super::case(Method::Free, 42),
+            super::case(Method::FreeResidual, 1),
         ],
     };
     let result = run_cases(&file, &spec).unwrap();
     let reference = &result.references[0].1;
     let phase = reference.w.im.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     assert!(phase > 1e-2 * reference.w.re.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
-    for c in result.rows() {
-        let tol = if c.method == Method::Free {
-            COMPLETE
-        } else {
-            1e-3
-        };
-        assert!(
-            c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < tol,
-            "{c:?}"
-        );
-    }
+    assert_errors_below(&result.rows());
 }
 
 #[test]
@@ -365,12 +329,7 @@ fn interface_forces_from_matrices_equal_the_connection_forces() {
             },
             FlexibleBody::Reduced(&body),
         ] {
-            let system = flexbody::mbs::System {
-                flexible: vec![flexible],
-                rigid: file.rigid_bodies.clone(),
-                connections: file.connections.clone(),
-                track: file.track,
-            };
+            let system = file.system(flexible);
             let r = flexbody::mbs::harmonic_response(&system, omega).unwrap();
             let u = &r.flexible[0].0;
             let a: Vec<f64> = u.iter().map(|v| -omega * omega * v).collect();

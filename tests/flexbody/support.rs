@@ -4,15 +4,54 @@
 use flexbody::fem::{Dof, DofKind, Model, Substructure};
 use flexbody::input::{load, MatrixFiles};
 use flexbody::reduce::{reduce, Method, ReducedBody, Reduction};
+use std::ffi::OsStr;
+use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use tempfile::TempDir;
 
 /// Runs the `flexbody` binary with `args`.
-pub(crate) fn flexbody(args: &[&str]) -> Output {
+pub(crate) fn flexbody<S: AsRef<OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_flexbody"))
         .args(args)
         .output()
         .expect("run flexbody")
+}
+
+/// Runs the `flexbody` binary with `args`, expecting success.
+pub(crate) fn run_ok<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    let o = flexbody(args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    o
+}
+
+/// The standard output of `o` as a JSON document.
+pub(crate) fn stdout_json(o: &Output) -> serde_json::Value {
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+/// The arguments `reduce MODEL --method METHOD --modes MODES --out OUT`,
+/// followed by `extra`.
+pub(crate) fn reduce_args(
+    model: impl AsRef<Path>,
+    method: &str,
+    modes: &str,
+    out: impl AsRef<Path>,
+    extra: &[&str],
+) -> Vec<String> {
+    let path = |p: &Path| p.to_str().unwrap().to_owned();
+    let mut args = vec![
+        "reduce".to_owned(),
+        path(model.as_ref()),
+        "--method".to_owned(),
+        method.to_owned(),
+        "--modes".to_owned(),
+        modes.to_owned(),
+        "--out".to_owned(),
+        path(out.as_ref()),
+    ];
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args
 }
 
 /// The standard error of `o` as text.
@@ -21,7 +60,7 @@ pub(crate) fn stderr(o: &Output) -> String {
 }
 
 /// Runs `args` expecting exit code 2 and a message containing all `needles`.
-pub(crate) fn fails_with(args: &[&str], needles: &[&str]) {
+pub(crate) fn fails_with<S: AsRef<OsStr> + Debug>(args: &[S], needles: &[&str]) {
     let o = flexbody(args);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
@@ -32,8 +71,13 @@ pub(crate) fn fails_with(args: &[&str], needles: &[&str]) {
 }
 
 /// The solid side beam example (1668 DOFs, the sparse solver).
-pub(crate) fn solid_side_beam() -> std::path::PathBuf {
-    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
+pub(crate) fn solid_side_beam() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_solid.toml")
+}
+
+/// The deck of the CalculiX hex-element beam, `tests/fixtures/calculix/hex_beam`.
+pub(crate) fn hex_beam_deck() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/calculix/hex_beam/hex_beam.inp")
 }
 
 /// The side beam with `from` replaced by `to`, written to `dir/name`.
@@ -45,12 +89,49 @@ pub(crate) fn variant(dir: &Path, name: &str, from: &str, to: &str) -> String {
     path.to_string_lossy().into_owned()
 }
 
+/// The side beam reduced by `method` with `modes`, written as `body.json`
+/// into a new temporary folder: the folder, the file and the body.
+pub(crate) fn side_beam_json(method: Method, modes: usize) -> (TempDir, PathBuf, ReducedBody) {
+    let (_, _, body) = super::side_beam_body(method, modes);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("body.json");
+    flexbody::export::write_json(&body, &path).unwrap();
+    (dir, path, body)
+}
+
+/// The largest difference between the entries of `a` and `b`.
+pub(crate) fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// 1 at every DOF of `sub` of `kind`, 0 at the others: a unit rigid
+/// translation when `kind` is a translation.
+pub(crate) fn unit_translation(sub: &Substructure, kind: DofKind) -> Vec<f64> {
+    sub.dof_map
+        .dofs()
+        .iter()
+        .map(|d| (d.kind == kind) as u8 as f64)
+        .collect()
+}
+
+/// The side beam held at one interface DOF, node 11 uz, written to
+/// `dir/m.toml`: heave is held, pitch about node 11 is not.
+pub(crate) fn mid_span_interface(dir: &Path) -> String {
+    variant(
+        dir,
+        "m.toml",
+        "[track]",
+        "[interface]\ndofs = [{ node = 11, dof = \"uz\" }]\n\n[track]",
+    )
+}
+
 /// The CalculiX hex-element beam of `tests/fixtures/calculix/hex_beam`: its
 /// matrices and its mesh.
 pub(crate) fn hex_beam() -> (Substructure, Model) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/calculix/hex_beam/hex_beam.inp");
-    let c = load(&path, &MatrixFiles::default()).unwrap();
+    let c = load(&hex_beam_deck(), &MatrixFiles::default()).unwrap();
     (c.sub, c.model.unwrap())
 }
 

@@ -2,6 +2,7 @@
 //! against full, steady state against the harmonic response, closed forms
 //! of one- and two-mass oscillators, modal damping, and bad input.
 
+use super::support::{flexbody, max_difference, run_ok};
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::mbs::{damped_modes, harmonic_response, FlexibleBody, System};
 use flexbody::scenario::{parse_model_file, read_model_file, ModelFile};
@@ -99,12 +100,7 @@ fn section_force_histories_of_reduced_and_full_models_agree() {
     ] {
         let (a, b) = (red.column(name).unwrap(), full.column(name).unwrap());
         let scale = max_abs(b);
-        let err = a
-            .iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max)
-            / scale;
+        let err = max_difference(a, b) / scale;
         // measured 7.1e-5, 1.0e-5, 1.4e-6 and 2.2e-4 (the eigenmodes the
         // basis leaves out)
         assert!(err < 7e-4, "{name}: {err:e}");
@@ -120,12 +116,7 @@ fn steady_state_equals_the_harmonic_response() {
     let h = run(&file, false);
     let track = file.track.unwrap();
     let omega = 2.0 * std::f64::consts::PI * spec.excitation.speed / track.wavelength;
-    let system = System {
-        flexible: vec![FlexibleBody::Reduced(&body)],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    };
+    let system = file.system(FlexibleBody::Reduced(&body));
     let r = harmonic_response(&system, omega).unwrap();
     // Node 7 (a secondary seat) and the front primary spring over the last period.
     let row = body.row_of(Dof::new(7, DofKind::Uz)).unwrap();
@@ -165,12 +156,7 @@ fn frf_matches_single_harmonic_solutions() {
     assert_eq!(t.frequencies_hz.len(), 240);
     let k = 100;
     let omega = 2.0 * std::f64::consts::PI * t.frequencies_hz[k];
-    let system = System {
-        flexible: vec![FlexibleBody::Reduced(&body)],
-        rigid: file.rigid_bodies.clone(),
-        connections: file.connections.clone(),
-        track: file.track,
-    };
+    let system = file.system(FlexibleBody::Reduced(&body));
     let r = harmonic_response(&system, omega).unwrap();
     let a = file.track.unwrap().amplitude;
     let (name, mag, phase) = &t.outputs[0];
@@ -395,15 +381,12 @@ fn fails(text: &str, needles: &[&str]) {
     .unwrap();
     let model = dir.join(format!("m{}.toml", needles.len()));
     std::fs::write(&model, text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .args([
-            "simulate",
-            model.to_str().unwrap(),
-            "--out",
-            dir.join("out").to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let out = flexbody(&[
+        "simulate",
+        model.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     for n in needles {
@@ -439,20 +422,12 @@ fn bad_simulation_input_is_named() {
 #[test]
 fn simulate_writes_histories_and_plots() {
     let dir = std::env::temp_dir().join(format!("flexbody-simulate-{}", std::process::id()));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_flexbody"))
-        .args([
-            "simulate",
-            vehicle_path().to_str().unwrap(),
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_ok(&[
+        "simulate",
+        vehicle_path().to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     let csv = std::fs::read_to_string(dir.join("histories.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     for column in [

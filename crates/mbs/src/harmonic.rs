@@ -130,6 +130,7 @@ pub fn harmonic_response(system: &System, omega: f64) -> Result<HarmonicResponse
 mod tests {
     use super::*;
     use crate::linear_solve::solve_lu;
+    use crate::test_systems::grounded_oscillator;
     use crate::{Connection, Endpoint, ForceLaw, RigidBody, Track};
     use faer::Mat;
     use flexbody_fem::DofKind;
@@ -297,26 +298,7 @@ mod tests {
     #[test]
     fn undamped_resonance_is_reported() {
         let (m, k) = (2.0, 8.0);
-        let system = System {
-            rigid: vec![RigidBody {
-                name: "mass".into(),
-                mass: m,
-                inertia: [0.0; 6],
-                center: [0.0; 3],
-                active: vec![DofKind::Uz],
-            }],
-            connections: vec![Connection {
-                name: "spring".into(),
-                a: Endpoint::Ground,
-                b: Endpoint::Rigid {
-                    body: 0,
-                    point: [0.0; 3],
-                },
-                direction: [0.0, 0.0, 1.0],
-                law: ForceLaw::linear(k, 0.0),
-            }],
-            ..Default::default()
-        };
+        let system = grounded_oscillator("mass", "spring", m, k, 0.0);
         assert!(matches!(
             harmonic_response(&system, 2.0),
             Err(MbsError::Singular { .. })

@@ -17,6 +17,8 @@ pub mod harmonic;
 mod linear_solve;
 pub mod modal;
 pub mod system;
+#[cfg(test)]
+mod test_systems;
 pub mod time;
 
 pub use body::{FlexibleBody, RigidBody};

@@ -111,6 +111,7 @@ pub fn damped_modes(system: &System) -> Result<Vec<DampedMode>, MbsError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_systems::grounded_oscillator;
     use crate::{Connection, Endpoint, RigidBody};
     use flexbody_fem::DofKind;
 
@@ -118,27 +119,7 @@ mod tests {
     fn one_damped_oscillator_has_its_frequency_and_ratio() {
         let (m, k, zeta): (f64, f64, f64) = (3.0, 1200.0, 0.05);
         let omega = (k / m).sqrt();
-        let s = System {
-            rigid: vec![RigidBody {
-                name: "m".into(),
-                mass: m,
-                inertia: [0.0; 6],
-                center: [0.0; 3],
-                active: vec![DofKind::Uz],
-            }],
-            connections: vec![Connection::linear(
-                "kc",
-                Endpoint::Ground,
-                Endpoint::Rigid {
-                    body: 0,
-                    point: [0.0; 3],
-                },
-                [0.0, 0.0, 1.0],
-                k,
-                2.0 * zeta * omega * m,
-            )],
-            ..Default::default()
-        };
+        let s = grounded_oscillator("m", "kc", m, k, 2.0 * zeta * omega * m);
         let modes = damped_modes(&s).unwrap();
         assert_eq!(modes.len(), 1);
         let md = modes[0];

@@ -71,11 +71,12 @@ impl System<'_> {
         }
     }
 
-    /// Translation rows of one endpoint and, for a track end, its wheel
-    /// position x.
-    fn endpoint(
+    /// Translation rows of one endpoint, those along a zero component of
+    /// `d` left empty for a flexible body, and, for a track end, its wheel
+    /// position x. Errors name `name`, the connection or force at `e`.
+    pub(crate) fn endpoint(
         &self,
-        c: &Connection,
+        name: &str,
         e: &Endpoint,
         d: [f64; 3],
         layout: &Layout,
@@ -86,7 +87,7 @@ impl System<'_> {
             Endpoint::Track { x } => Ok((none, Some(*x))),
             Endpoint::Rigid { body, point } => {
                 let b = self.rigid.get(*body).ok_or(MbsError::UnknownRigidBody {
-                    connection: c.name.clone(),
+                    connection: name.to_owned(),
                     body: *body,
                 })?;
                 let at = layout.rigid[*body];
@@ -100,7 +101,7 @@ impl System<'_> {
                     .flexible
                     .get(*body)
                     .ok_or(MbsError::UnknownFlexibleBody {
-                        connection: c.name.clone(),
+                        connection: name.to_owned(),
                         body: *body,
                     })?;
                 let at = layout.flexible[*body];
@@ -115,7 +116,7 @@ impl System<'_> {
                     let row = b
                         .dof_row(Dof::new(*node, kind))
                         .ok_or(MbsError::MissingDof {
-                            connection: c.name.clone(),
+                            connection: name.to_owned(),
                             node: *node,
                             dof: kind.name(),
                         })?;
@@ -136,8 +137,8 @@ impl System<'_> {
             connection: c.name.clone(),
             what,
         })?;
-        let (ra, ta) = self.endpoint(c, &c.a, d, layout)?;
-        let (rb, tb) = self.endpoint(c, &c.b, d, layout)?;
+        let (ra, ta) = self.endpoint(&c.name, &c.a, d, layout)?;
+        let (rb, tb) = self.endpoint(&c.name, &c.b, d, layout)?;
         let mut row: Row = Vec::new();
         for (a, da) in d.iter().enumerate() {
             row.extend(rb[a].iter().map(|&(i, v)| (i, da * v)));

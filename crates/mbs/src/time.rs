@@ -16,7 +16,6 @@ use crate::system::{Assembled, Kinematics, System};
 use crate::MbsError;
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 
@@ -557,54 +556,16 @@ fn force_row(
         connection: f.name.clone(),
         what: "force direction is zero".into(),
     })?;
+    if let Endpoint::Ground | Endpoint::Track { .. } = f.at {
+        return Err(MbsError::Invalid {
+            connection: f.name.clone(),
+            what: "a force must act on a body".into(),
+        });
+    }
+    let (rows, _) = system.endpoint(&f.name, &f.at, d, layout)?;
     let mut row = Row::new();
-    match &f.at {
-        Endpoint::Flexible { body, node } => {
-            let b = system
-                .flexible
-                .get(*body)
-                .ok_or(MbsError::UnknownFlexibleBody {
-                    connection: f.name.clone(),
-                    body: *body,
-                })?;
-            for (a, kind) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
-                .into_iter()
-                .enumerate()
-            {
-                if d[a] == 0.0 {
-                    continue;
-                }
-                let r = b
-                    .dof_row(Dof::new(*node, kind))
-                    .ok_or(MbsError::MissingDof {
-                        connection: f.name.clone(),
-                        node: *node,
-                        dof: kind.name(),
-                    })?;
-                row.extend(
-                    r.into_iter()
-                        .map(|(i, v)| (i + layout.flexible[*body], d[a] * v)),
-                );
-            }
-        }
-        Endpoint::Rigid { body, point } => {
-            let b = system.rigid.get(*body).ok_or(MbsError::UnknownRigidBody {
-                connection: f.name.clone(),
-                body: *body,
-            })?;
-            for (a, r) in b.point_rows(*point).into_iter().enumerate() {
-                row.extend(
-                    r.into_iter()
-                        .map(|(i, v)| (i + layout.rigid[*body], d[a] * v)),
-                );
-            }
-        }
-        Endpoint::Ground | Endpoint::Track { .. } => {
-            return Err(MbsError::Invalid {
-                connection: f.name.clone(),
-                what: "a force must act on a body".into(),
-            })
-        }
+    for (r, da) in rows.into_iter().zip(d) {
+        row.extend(r.into_iter().map(|(i, v)| (i, da * v)));
     }
     Ok(row)
 }
@@ -652,6 +613,7 @@ fn solve(a: &SparseMat, b: &[f64], omega: f64) -> Result<Vec<f64>, MbsError> {
 mod tests {
     use super::*;
     use crate::{harmonic_response, Connection, ForceLaw, RigidBody, Track};
+    use flexbody_fem::DofKind;
 
     fn mass(name: &str, m: f64, z: f64) -> RigidBody {
         RigidBody {
@@ -718,19 +680,34 @@ mod tests {
         }
     }
 
+    /// The trapezoidal rule (`alpha = 0`) with `step` over `duration`.
+    fn trapezoidal(step: f64, duration: f64) -> TimeSettings {
+        TimeSettings {
+            step,
+            duration,
+            alpha: 0.0,
+            ..Default::default()
+        }
+    }
+
+    /// `s` without excitation from the state `released(-0.05)`.
+    fn from_released(s: &System, settings: &TimeSettings) -> TimeResponse {
+        simulate(s, &Excitation::default(), settings, Some(released(-0.05))).unwrap()
+    }
+
+    /// The largest deviation of the energy of `r` from `e0`.
+    fn energy_drift(r: &TimeResponse, e0: f64) -> f64 {
+        r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max)
+    }
+
     #[test]
     fn trapezoidal_rule_conserves_the_energy_of_a_linear_system() {
         let s = two_masses(0.0, false);
-        let settings = TimeSettings {
-            step: 1e-3,
-            duration: 2.0,
-            alpha: 0.0,
-            ..Default::default()
-        };
-        let r = simulate(&s, &Excitation::default(), &settings, Some(released(-0.05))).unwrap();
+        let settings = trapezoidal(1e-3, 2.0);
+        let r = from_released(&s, &settings);
         let e0 = r.energy[0];
         assert!(e0 > 0.0);
-        let drift = r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let drift = energy_drift(&r, e0);
         assert!(drift < 1e-10 * e0, "{drift} of {e0}");
         assert!(
             r.iterations[1..].iter().all(|&k| k == 1),
@@ -741,26 +718,21 @@ mod tests {
     #[test]
     fn a_bump_stop_engages_and_energy_stays_within_the_schemes_error() {
         let s = two_masses(0.0, true);
-        let settings = TimeSettings {
-            step: 2e-4,
-            duration: 1.0,
-            alpha: 0.0,
-            ..Default::default()
-        };
-        let r = simulate(&s, &Excitation::default(), &settings, Some(released(-0.05))).unwrap();
+        let settings = trapezoidal(2e-4, 1.0);
+        let r = from_released(&s, &settings);
         let stop: Vec<f64> = r.forces.iter().map(|f| f[2]).collect();
         assert!(stop.iter().any(|f| *f < -1e3), "the stop pushes");
         assert!(stop.contains(&0.0), "and opens again");
         let e0 = r.energy[0];
-        let drift = r.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let drift = energy_drift(&r, e0);
         assert!(drift < 2e-3 * e0, "{drift} of {e0}");
         // Halving the step cuts the drift about fourfold (second order).
         let fine = TimeSettings {
             step: 1e-4,
             ..settings
         };
-        let r2 = simulate(&s, &Excitation::default(), &fine, Some(released(-0.05))).unwrap();
-        let drift2 = r2.energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let r2 = from_released(&s, &fine);
+        let drift2 = energy_drift(&r2, e0);
         assert!(drift2 < 0.5 * drift, "{drift2} vs {drift}");
     }
 
@@ -769,13 +741,8 @@ mod tests {
         // Linear with a viscous damper: the trapezoidal rule's energy balance
         // is exact, E_{n+1} - E_n = -h v_avg^T D v_avg, so E never grows.
         let s = two_masses(2e3, false);
-        let settings = TimeSettings {
-            step: 5e-4,
-            duration: 1.0,
-            alpha: 0.0,
-            ..Default::default()
-        };
-        let r = simulate(&s, &Excitation::default(), &settings, Some(released(-0.05))).unwrap();
+        let settings = trapezoidal(5e-4, 1.0);
+        let r = from_released(&s, &settings);
         for w in r.energy.windows(2) {
             assert!(w[1] <= w[0] * (1.0 + 1e-12), "{} -> {}", w[0], w[1]);
         }
@@ -798,7 +765,7 @@ mod tests {
             alpha: -0.2,
             ..settings
         };
-        let r = simulate(&s, &Excitation::default(), &settings, Some(released(-0.05))).unwrap();
+        let r = from_released(&s, &settings);
         let e0 = r.energy[0];
         assert!(r.energy.iter().all(|e| *e <= e0 * (1.0 + 1e-9)));
         assert!(r.energy.last().unwrap() < &(0.5 * e0));

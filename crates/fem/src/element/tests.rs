@@ -89,6 +89,18 @@ fn beta_l(lambda: f64, ei: f64, rho_a: f64, l: f64) -> f64 {
     (lambda.sqrt() * (rho_a * l.powi(4) / ei).sqrt()).sqrt()
 }
 
+/// Asserts that the eigenvalues `lambdas` give the `exact` values of beta L
+/// (beam theory of the `case`) to 1e-4.
+fn assert_beta_l(lambdas: &[f64], exact: [f64; 3], ei: f64, rho_a: f64, l: f64, case: &str) {
+    for (lam, exact) in lambdas.iter().zip(exact) {
+        let b = beta_l(*lam, ei, rho_a, l);
+        assert!(
+            (b - exact).abs() / exact < 1e-4,
+            "{case} beta L {b} vs {exact}"
+        );
+    }
+}
+
 #[test]
 fn planar_free_free_and_cantilever_frequencies_converge() {
     let l = 2.0;
@@ -107,37 +119,24 @@ fn planar_free_free_and_cantilever_frequencies_converge() {
     );
     // Two rigid-body modes (heave, pitch), then the elastic ones.
     assert!(free[0].abs() < 1e-6 * free[2] && free[1].abs() < 1e-6 * free[2]);
-    for (lam, exact) in free[2..5]
-        .iter()
-        .zip([4.730_040_745, 7.853_204_624, 10.995_607_838])
-    {
-        let b = beta_l(*lam, ei, rho_a, l);
-        assert!(
-            (b - exact).abs() / exact < 1e-4,
-            "free-free beta L {b} vs {exact}"
-        );
-    }
-    let clamped = eigenvalues(
-        &assemble(&line(
-            40,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            true,
-            BeamTheory::EulerBernoulli,
-            true,
-        ))
-        .unwrap(),
+    assert_beta_l(
+        &free[2..5],
+        [4.730_040_745, 7.853_204_624, 10.995_607_838],
+        ei,
+        rho_a,
+        l,
+        "free-free",
     );
-    for (lam, exact) in clamped[..3]
-        .iter()
-        .zip([1.875_104_069, 4.694_091_133, 7.854_757_438])
-    {
-        let b = beta_l(*lam, ei, rho_a, l);
-        assert!(
-            (b - exact).abs() / exact < 1e-4,
-            "cantilever beta L {b} vs {exact}"
-        );
-    }
+    let clamped =
+        eigenvalues(&assemble(&cantilever(40, l, true, BeamTheory::EulerBernoulli)).unwrap());
+    assert_beta_l(
+        &clamped[..3],
+        [1.875_104_069, 4.694_091_133, 7.854_757_438],
+        ei,
+        rho_a,
+        l,
+        "cantilever",
+    );
 }
 
 #[test]
@@ -170,6 +169,12 @@ fn skew_3d_beam_has_six_rigid_modes_and_both_bending_planes() {
     assert!((strong - 4.730_040_745).abs() / 4.73 < 1e-4);
 }
 
+/// A cantilever of `n` elements along global x from the origin to `l`,
+/// clamped at node 1; 3D beams when `planar` is false.
+fn cantilever(n: usize, l: f64, planar: bool, theory: BeamTheory) -> Model {
+    line(n, [0.0; 3], [l, 0.0, 0.0], planar, theory, true)
+}
+
 /// Static tip deflection of a cantilever under a tip force P, solved on the
 /// full model.
 fn tip_deflection(model: &Model, tip: Dof, load: f64) -> f64 {
@@ -187,25 +192,11 @@ fn cantilever_tip_load_is_exact_for_both_theories() {
     let (l, p_load) = (1.5, 1000.0);
     let p = props(BeamTheory::Timoshenko);
     let ei = E * p.section.iy;
-    let eb = line(
-        3,
-        [0.0; 3],
-        [l, 0.0, 0.0],
-        false,
-        BeamTheory::EulerBernoulli,
-        true,
-    );
+    let eb = cantilever(3, l, false, BeamTheory::EulerBernoulli);
     let w = tip_deflection(&eb, Dof::new(4, DofKind::Uz), p_load);
     let exact = p_load * l.powi(3) / (3.0 * ei);
     assert!((w - exact).abs() / exact < 1e-12, "{w} vs {exact}");
-    let ti = line(
-        3,
-        [0.0; 3],
-        [l, 0.0, 0.0],
-        false,
-        BeamTheory::Timoshenko,
-        true,
-    );
+    let ti = cantilever(3, l, false, BeamTheory::Timoshenko);
     let w = tip_deflection(&ti, Dof::new(4, DofKind::Uz), p_load);
     let shear = p_load * l / (p.material.shear_modulus * p.section.shear_area_z);
     assert!(
@@ -213,14 +204,7 @@ fn cantilever_tip_load_is_exact_for_both_theories() {
         "{w} vs {}",
         exact + shear
     );
-    let planar = line(
-        3,
-        [0.0; 3],
-        [l, 0.0, 0.0],
-        true,
-        BeamTheory::EulerBernoulli,
-        true,
-    );
+    let planar = cantilever(3, l, true, BeamTheory::EulerBernoulli);
     let w = tip_deflection(&planar, Dof::new(4, DofKind::Uz), p_load);
     assert!((w - exact).abs() / exact < 1e-12);
 }
@@ -228,28 +212,8 @@ fn cantilever_tip_load_is_exact_for_both_theories() {
 #[test]
 fn short_timoshenko_cantilever_is_softer_than_euler_bernoulli() {
     let l = 0.3; // length / depth = 5
-    let eb = eigenvalues(
-        &assemble(&line(
-            30,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            false,
-            BeamTheory::EulerBernoulli,
-            true,
-        ))
-        .unwrap(),
-    );
-    let ti = eigenvalues(
-        &assemble(&line(
-            30,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            false,
-            BeamTheory::Timoshenko,
-            true,
-        ))
-        .unwrap(),
-    );
+    let eb = eigenvalues(&assemble(&cantilever(30, l, false, BeamTheory::EulerBernoulli)).unwrap());
+    let ti = eigenvalues(&assemble(&cantilever(30, l, false, BeamTheory::Timoshenko)).unwrap());
     // Torsion and axial modes are the same in both theories; bending modes
     // (the two first ones, weak and strong axis) are lower with shear.
     for i in 0..6 {

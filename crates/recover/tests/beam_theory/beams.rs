@@ -157,6 +157,82 @@ pub(crate) fn line(
     Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap()
 }
 
+/// A line of `n` elements of `kind` along global x from the origin to
+/// `l`, orientation vector global y, every element forward, `fixed` held.
+pub(crate) fn along_x(kind: Kind, n: usize, l: f64, fixed: Vec<Dof>) -> Model {
+    line(
+        kind,
+        n,
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        |_| false,
+        fixed,
+    )
+}
+
+/// Where a cantilever lies: its clamped end, its unit direction and the
+/// orientation vector of its elements.
+pub(crate) type Placement = ([f64; 3], [f64; 3], [f64; 3]);
+
+/// The skew placement of the 3D cantilevers: no axis of the element frame
+/// along a global one.
+pub(crate) fn skew() -> Placement {
+    ([0.1, -0.2, 0.3], unit([1.0, 2.0, 2.0]), [0.3, 0.0, 1.0])
+}
+
+/// A cantilever of `n` elements of `kind` and length `l` placed by
+/// `placement`, clamped at node 1; element `i` runs backwards if
+/// `reversed(i)`.
+pub(crate) fn cantilever(
+    kind: Kind,
+    n: usize,
+    l: f64,
+    placement: Placement,
+    reversed: impl Fn(usize) -> bool,
+) -> Model {
+    let (a, dir, orientation) = placement;
+    let b = combine(&[(1.0, a), (l, dir)]);
+    line(kind, n, a, b, orientation, reversed, all_dofs(kind, 1))
+}
+
+/// Loads on every DOF of `node`: `force` on its translations, `moment` on
+/// its rotations.
+pub(crate) fn node_loads(node: u64, force: [f64; 3], moment: [f64; 3]) -> Vec<(Dof, f64)> {
+    DofKind::ALL
+        .iter()
+        .enumerate()
+        .map(|(c, k)| {
+            (
+                Dof::new(node, *k),
+                if c < 3 { force[c] } else { moment[c - 3] },
+            )
+        })
+        .collect()
+}
+
+/// A load at the tip `b` of a cantilever and the reaction of its clamp at
+/// `a` that balances it.
+pub(crate) fn tip_load_and_reaction(
+    a: [f64; 3],
+    b: [f64; 3],
+    force: [f64; 3],
+    moment: [f64; 3],
+) -> [PointLoad; 2] {
+    [
+        PointLoad {
+            at: b,
+            force,
+            moment,
+        },
+        PointLoad {
+            at: a,
+            force: force.map(|v| -v),
+            moment: combine(&[(-1.0, moment), (-1.0, cross(sub(b, a), force))]),
+        },
+    ]
+}
+
 /// All DOFs of `kind` at `node`.
 pub(crate) fn all_dofs(kind: Kind, node: u64) -> Vec<Dof> {
     kind.dof_kinds()

@@ -26,15 +26,7 @@ fn free_beam_accelerated_by_end_loads_matches_dalembert() {
         (Kind::Beam(BeamTheory::Timoshenko), None),
     ];
     for (kind, properties) in cases {
-        let mut model = line(
-            kind,
-            n,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            |_| false,
-            vec![],
-        );
+        let mut model = along_x(kind, n, l, vec![]);
         let has_own = properties.is_some();
         let p = properties.unwrap_or_else(|| kind.properties());
         if has_own {
@@ -131,15 +123,7 @@ fn harmonic_cantilever_matches_the_dynamic_beam_solution() {
     for kind in [Kind::Planar, Kind::Beam(BeamTheory::EulerBernoulli)] {
         for ratio in [0.6, 2.5] {
             let omega = ratio * omega1;
-            let model = line(
-                kind,
-                n,
-                [0.0; 3],
-                [l, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                |_| false,
-                all_dofs(kind, 1),
-            );
+            let model = along_x(kind, n, l, all_dofs(kind, 1));
             let planar = matches!(kind, Kind::Planar);
             let fy = if planar { 0.0 } else { fy };
             let tip = n as u64 + 1;

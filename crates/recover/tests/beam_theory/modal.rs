@@ -14,19 +14,11 @@ use flexbody_reduce::{reduce, Method, ModeKind, Reduction};
 fn modal_recovery_of_a_craig_bampton_cantilever_matches_statics() {
     let l = 1.5;
     let kind = Kind::Beam(BeamTheory::Timoshenko);
-    let (a, dir, orientation) = ([0.1, -0.2, 0.3], unit([1.0, 2.0, 2.0]), [0.3, 0.0, 1.0]);
+    let (a, dir, _) = skew();
     let b = combine(&[(1.0, a), (l, dir)]);
     let n = 6;
     let tip = n as u64 + 1;
-    let model = line(
-        kind,
-        n,
-        a,
-        b,
-        orientation,
-        |i| i % 3 == 2,
-        all_dofs(kind, 1),
-    );
+    let model = cantilever(kind, n, l, skew(), |i| i % 3 == 2);
     let substructure = Substructure::from_model(&model).unwrap();
     let interface = all_dofs(kind, tip);
     let body = reduce(
@@ -36,17 +28,7 @@ fn modal_recovery_of_a_craig_bampton_cantilever_matches_statics() {
     .unwrap();
     let force = [1.2e3, -2.5e3, 0.8e3];
     let moment = [150.0, -90.0, 220.0];
-    let loads: Vec<(Dof, f64)> = DofKind::ALL
-        .iter()
-        .enumerate()
-        .map(|(c, k)| {
-            (
-                Dof::new(tip, *k),
-                if c < 3 { force[c] } else { moment[c - 3] },
-            )
-        })
-        .collect();
-    let f = load_vector(&model, &loads);
+    let f = load_vector(&model, &node_loads(tip, force, moment));
     let r = body.r();
     let t = |i: usize, j: usize| body.basis[(i, j)];
     let f_red: Vec<f64> = (0..r)
@@ -58,18 +40,7 @@ fn modal_recovery_of_a_craig_bampton_cantilever_matches_statics() {
     let q = solve(k_red, f_red);
     let recovery = ModalRecovery::new(&model, &body).unwrap();
     assert_eq!(recovery.elements.len(), n);
-    let point_loads = [
-        PointLoad {
-            at: b,
-            force,
-            moment,
-        },
-        PointLoad {
-            at: a,
-            force: force.map(|v| -v),
-            moment: combine(&[(-1.0, moment), (-1.0, cross(sub(b, a), force))]),
-        },
-    ];
+    let point_loads = tip_load_and_reaction(a, b, force, moment);
     let zero = vec![0.0; r];
     let mut got = Vec::new();
     let mut want = Vec::new();
@@ -99,15 +70,7 @@ fn modal_recovery_of_a_free_residual_body_matches_dalembert() {
     let (l, n) = (2.0, 8);
     for theory in [BeamTheory::EulerBernoulli, BeamTheory::Timoshenko] {
         let kind = Kind::Beam(theory);
-        let model = line(
-            kind,
-            n,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            |_| false,
-            vec![],
-        );
+        let model = along_x(kind, n, l, vec![]);
         let tip = n as u64 + 1;
         let sub = Substructure::from_model(&model).unwrap();
         let body = reduce(

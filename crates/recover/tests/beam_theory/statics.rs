@@ -16,22 +16,15 @@ fn cantilever_with_tip_loads_matches_statics_and_tip_deflection() {
     let l = 1.5;
     for kind in KINDS {
         let p = kind.properties();
-        let (a, dir, orientation) = match kind {
+        let placement = match kind {
             Kind::Planar => ([0.2, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-            Kind::Beam(_) => ([0.1, -0.2, 0.3], unit([1.0, 2.0, 2.0]), [0.3, 0.0, 1.0]),
+            Kind::Beam(_) => skew(),
         };
+        let (a, dir, orientation) = placement;
         let b = combine(&[(1.0, a), (l, dir)]);
         let n = 6;
         let tip = n as u64 + 1;
-        let model = line(
-            kind,
-            n,
-            a,
-            b,
-            orientation,
-            |i| i % 2 == 1,
-            all_dofs(kind, 1),
-        );
+        let model = cantilever(kind, n, l, placement, |i| i % 2 == 1);
         // Tip loads in the frame of the beam's forward direction.
         let ex = dir;
         let ey = unit(combine(&[(1.0, orientation), (-dot(orientation, ex), ex)]));
@@ -42,15 +35,8 @@ fn cantilever_with_tip_loads_matches_statics_and_tip_deflection() {
         };
         let force = combine(&[(local[0], ex), (local[1], ey), (local[2], ez)]);
         let moment = combine(&[(local[3], ex), (local[4], ey), (local[5], ez)]);
-        let loads: Vec<(Dof, f64)> = DofKind::ALL
-            .iter()
-            .enumerate()
-            .map(|(c, k)| {
-                (
-                    Dof::new(tip, *k),
-                    if c < 3 { force[c] } else { moment[c - 3] },
-                )
-            })
+        let loads: Vec<(Dof, f64)> = node_loads(tip, force, moment)
+            .into_iter()
             .filter(|(d, _)| kind.dof_kinds().contains(&d.kind))
             .collect();
         let u = static_solution(&model, &loads);
@@ -58,18 +44,7 @@ fn cantilever_with_tip_loads_matches_statics_and_tip_deflection() {
         let recovered = section_forces(&model, &u, &zero).unwrap();
         assert_eq!(recovered.len(), n);
         // The clamp's reaction balances the tip loads.
-        let point_loads = [
-            PointLoad {
-                at: b,
-                force,
-                moment,
-            },
-            PointLoad {
-                at: a,
-                force: force.map(|v| -v),
-                moment: combine(&[(-1.0, moment), (-1.0, cross(sub(b, a), force))]),
-            },
-        ];
+        let point_loads = tip_load_and_reaction(a, b, force, moment);
         let want = expected_statics(&model, &recovered, &point_loads);
         let dev = deviation(&forces_of(&recovered), &want);
         // measured 6e-12: exact up to round-off.
@@ -211,15 +186,7 @@ fn cantilever_under_line_loads_matches_beam_theory_at_the_nodes() {
     let (px, qy, qz, mx) = (1.0e3, -1.5e3, 2.0e3, 300.0);
     for kind in KINDS {
         let p = kind.properties();
-        let model = line(
-            kind,
-            n,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            |_| false,
-            all_dofs(kind, 1),
-        );
+        let model = along_x(kind, n, l, all_dofs(kind, 1));
         let le = l / n as f64;
         // Consistent loads of one element, [start, end] x [ux uy uz rx ry rz]
         // (ry = -dw/dx, rz = dv/dx).
@@ -346,15 +313,7 @@ fn simply_supported_beam_with_a_central_load() {
             ]
             .to_vec(),
         };
-        let model = line(
-            kind,
-            n,
-            [0.0; 3],
-            [l, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            |_| false,
-            fixed,
-        );
+        let model = along_x(kind, n, l, fixed);
         let planar = matches!(kind, Kind::Planar);
         let py = if planar { 0.0 } else { py };
         let centre = n as u64 / 2 + 1;
