@@ -9,6 +9,7 @@ pub mod coupling;
 pub mod dof;
 pub mod element;
 pub mod id_hash;
+pub mod mesh;
 pub mod model;
 pub mod section;
 pub mod substructure;

@@ -173,36 +173,15 @@ fn invariants_of_point_masses_have_their_closed_forms() {
 /// A free steel C3D8 block of 3 x 2 x 2 elements (1.2 x 0.5 x 0.4 m)
 /// and its free reduction with 6 elastic modes.
 fn solid_block() -> (Substructure, ReducedBody) {
-    use flexbody_fem::element::solid::topology::hex_cell;
-    use flexbody_fem::element::solid::{Solid, SolidKind};
-    use flexbody_fem::{Element, Material, Model, Node};
-    let (nx, ny, nz) = (3usize, 2usize, 2usize);
-    let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
-    let mut nodes = Vec::new();
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                nodes.push(Node {
-                    id: id(i, j, k),
-                    coords: [0.4 * i as f64 - 0.3, 0.25 * j as f64 + 0.1, 0.2 * k as f64],
-                });
-            }
-        }
-    }
-    let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
-    let mut elements = Vec::new();
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                elements.push(Element::Solid(Solid {
-                    id: elements.len() + 1,
-                    kind: SolidKind::C3D8,
-                    nodes: hex_cell(i, j, k, |[a, b, c]| id(a, b, c)),
-                    material: steel.clone(),
-                }));
-            }
-        }
-    }
+    use flexbody_fem::mesh::BrickBlock;
+    use flexbody_fem::{Material, Model};
+    let grid = BrickBlock {
+        cells: [3, 2, 2],
+        origin: [-0.3, 0.1, 0.0],
+        size: [1.2, 0.5, 0.4],
+    };
+    let nodes = grid.nodes();
+    let elements = grid.elements(&Material::new(2.1e11, 0.3, 7850.0).unwrap());
     let model = Model::new(nodes, elements, Default::default(), vec![], None).unwrap();
     let sub = Substructure::from_model(&model).unwrap();
     let spec = crate::Reduction::new(Method::Free, 12, vec![]);

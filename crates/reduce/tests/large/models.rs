@@ -3,6 +3,7 @@
 
 use flexbody_fem::element::solid::topology::hex_cell;
 use flexbody_fem::element::solid::{Solid, SolidKind};
+use flexbody_fem::mesh::BrickBlock;
 use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node, Substructure};
 use std::collections::BTreeMap;
 
@@ -29,36 +30,15 @@ pub(crate) fn block_held(
     dangling: bool,
     clamped: bool,
 ) -> Substructure {
-    let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
-    let mut nodes = Vec::new();
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                nodes.push(Node {
-                    id: id(i, j, k),
-                    coords: [
-                        size[0] * i as f64 / nx as f64,
-                        size[1] * j as f64 / ny as f64,
-                        size[2] * k as f64 / nz as f64,
-                    ],
-                });
-            }
-        }
-    }
+    let grid = BrickBlock {
+        cells: [nx, ny, nz],
+        origin: [0.0; 3],
+        size,
+    };
+    let id = |i: usize, j: usize, k: usize| grid.node([i, j, k]);
+    let mut nodes = grid.nodes();
     let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
-    let mut elements = Vec::new();
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                elements.push(Element::Solid(Solid {
-                    id: elements.len() + 1,
-                    kind: SolidKind::C3D8,
-                    nodes: hex_cell(i, j, k, |[a, b, c]| id(a, b, c)),
-                    material: steel.clone(),
-                }));
-            }
-        }
-    }
+    let mut elements = grid.elements(&steel);
     if dangling {
         // The cube [L, L+h] x [-h, 0] x [-h, 0]; its 8th node is (L, 0, 0).
         let (l, h) = (size[0], size[0] / nx as f64);
