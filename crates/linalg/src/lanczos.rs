@@ -595,7 +595,7 @@ pub fn residuals(
 }
 
 /// [`residuals`] from the products `K x` and `M x`.
-fn residuals_of(
+pub(crate) fn residuals_of(
     kx: &Mat<f64>,
     mx: &Mat<f64>,
     values: &[f64],

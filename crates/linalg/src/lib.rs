@@ -6,7 +6,10 @@
 //!   found on the node graph, and the plans of the parallel steps), the
 //!   numeric factorisation, block solves, pivot inspection (singularity,
 //!   inertia);
-//! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`;
+//! - [`solver`]: the one eigen entry point, choosing the dense or the
+//!   sparse solver by size and request;
+//! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`,
+//!   dense;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
 //!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
 //!   fill-reducing [`ordering`], reporting to a [`progress`] hook;
@@ -22,6 +25,7 @@ pub mod ordering;
 pub mod orthonormal;
 pub mod progress;
 pub mod shift_invert;
+pub mod solver;
 pub mod sparse;
 mod tall;
 
@@ -46,6 +50,11 @@ pub enum LinalgError {
     /// under the rigid-body modes' zeros, or clearly negative.
     #[error("{count} eigenvalue(s) of K phi = lambda M phi lie below {bound:e} (1/s^2), where none may: K is not positive semi-definite (a structure unstable under its preload, a negative stiffness) or M is not positive")]
     NotSemiDefinite { count: usize, bound: f64 },
+    /// The dense eigen solver was asked for a pencil beyond its limit.
+    #[error(
+        "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); use the sparse solver (Solver::Sparse or Auto)"
+    )]
+    TooLargeForDense { dofs: usize, limit: usize },
     /// The mass matrix is zero: an eigen solve needs mass.
     #[error("the mass matrix is zero: natural frequencies need mass (is every density 0?)")]
     NoMass,

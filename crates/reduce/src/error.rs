@@ -109,10 +109,6 @@ pub enum ReduceError {
     ForceGroup { name: String, reason: String },
     #[error("both a number of modes ({0}) and a frequency band are given; give one")]
     ModesAndBand(usize),
-    #[error(
-        "{dofs} DOFs is beyond the dense eigen solver (limit {limit}); use the sparse solver (EigenSolver::Sparse or Auto)"
-    )]
-    TooLargeForDense { dofs: usize, limit: usize },
     #[error(transparent)]
     Fem(#[from] FemError),
     #[error(transparent)]

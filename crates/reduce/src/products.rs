@@ -16,6 +16,7 @@ use crate::modes::eigen::{eigenmodes, eigenmodes_on, Wanted};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, SparseMat};
 
 /// One of the model's matrices, in full storage, as a reduction holds it.
@@ -67,6 +68,14 @@ impl<'a> Matrices<'a> {
         }
     }
 
+    /// The matrices kept for the products where the dense eigen solver
+    /// serves `wanted` of `n` equations: a model that small has no memory
+    /// to save, and its products stay exactly [`sparse::project`]'s. `None`
+    /// (dropped) otherwise, the pencil's compact copy serving instead.
+    pub(crate) fn kept_if_small(self, n: usize, wanted: Wanted) -> Option<Self> {
+        Solver::Auto.is_dense(n, wanted).then_some(self)
+    }
+
     pub(crate) fn k(&self) -> &SparseMat {
         self.k.get()
     }
@@ -78,7 +87,8 @@ impl<'a> Matrices<'a> {
 
 /// Products with the model's `K` and `M`.
 pub(crate) enum Products<'a> {
-    /// The matrices in full (the dense paths of small models).
+    /// The model's own matrices, where the dense eigen solver served (a
+    /// small model: the products are those of [`sparse::project`]).
     Full(Matrices<'a>),
     /// The compact copy of the pencil the eigen solver analysed.
     Pencil(ShiftedPencil),
@@ -165,7 +175,15 @@ impl Bordered {
     }
 }
 
-impl Products<'_> {
+impl<'a> Products<'a> {
+    /// `full` where the model's own matrices were kept, else `compact`.
+    pub(crate) fn full_or(full: Option<Matrices<'a>>, compact: Products<'a>) -> Self {
+        match full {
+            Some(matrices) => Products::Full(matrices),
+            None => compact,
+        }
+    }
+
     /// The lowest `count` eigenvalues of the free model's `K` and `M`, to
     /// count a mechanism's zero modes ([`crate::modes::zero_modes`]); none
     /// from the pencil of a body held at its interface or on springs, which
@@ -176,7 +194,8 @@ impl Products<'_> {
                 Ok(eigenmodes(matrices.k(), matrices.m(), Wanted::Lowest(count))?.values)
             }
             Products::Pencil(pencil) => {
-                Ok(eigenmodes_on(pencil, None, Wanted::Lowest(count), None, None)?.values)
+                let request = EigenRequest::new(Wanted::Lowest(count));
+                Ok(eigenmodes_on(pencil, None, &request)?.values)
             }
             Products::Bordered(_) | Products::Sprung(_) => Ok(Vec::new()),
         }

@@ -4,11 +4,13 @@
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
-use flexbody_linalg::ldlt::Ldlt;
-use flexbody_linalg::{LinalgError, SparseMat};
+use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// What a singular `K` of a supported body is called in errors.
-pub(crate) const SUPPORTED_BODY: &str = "the stiffness matrix of the supported body";
+const SUPPORTED_BODY: &str = "the stiffness matrix of the supported body";
 
 /// Unit-load matrix `P_1` (m x s): a unit force (or moment) at each of the
 /// equations in `dofs`.
@@ -23,12 +25,31 @@ pub fn attachment_modes(
     loads: &Mat<f64>,
     dof_map: &DofMap,
 ) -> Result<Mat<f64>, ReduceError> {
-    let ldlt = Ldlt::factorize(stiffness).map_err(|e| match e {
+    let no_mass = sparse::from_triplets(stiffness.nrows(), stiffness.nrows(), &[])?;
+    let hook = progress::global();
+    let pencil = ShiftedPencil::analyze_reporting(stiffness, &no_mass, Ordering::Auto, &*hook)?;
+    Ok(attachment_modes_on(&pencil, loads, dof_map)?.0)
+}
+
+/// [`attachment_modes`] on the factor of `K` from `pencil`, returned with
+/// it: the Lanczos operator at shift 0 afterwards.
+pub(crate) fn attachment_modes_on(
+    pencil: &ShiftedPencil,
+    loads: &Mat<f64>,
+    dof_map: &DofMap,
+) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
+    let hook = progress::global();
+    let factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Singular {
             what: SUPPORTED_BODY,
             dof: dof_map.dof(index),
         },
         other => other.into(),
     })?;
-    Ok(ldlt.solve(loads.as_ref()))
+    hook.report(&Stage::Solves {
+        columns: loads.ncols(),
+    });
+    let mut t_a = loads.clone();
+    factor.solve_in_place(t_a.as_mut());
+    Ok((t_a, factor))
 }

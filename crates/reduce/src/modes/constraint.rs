@@ -7,32 +7,32 @@
 //! least support the body statically; if not, the error names the DOFs that
 //! can still move.
 
-use super::{complement, rigid::RigidModes};
+use super::eigen::Wanted;
+use super::fixed_interface::craig_bampton_modes_from;
+use super::rigid::RigidModes;
+use crate::products::Matrices;
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
-use flexbody_linalg::ldlt::Ldlt;
-use flexbody_linalg::{sparse, LinalgError, SparseMat};
+use flexbody_linalg::{LinalgError, SparseMat};
 
 /// Constraint modes `T_stat,c` (m x s), one per boundary equation in
-/// `boundary`. `rigid` (possibly empty) serves to name the free DOFs when
-/// the boundary does not support the body.
+/// `boundary`: Guyan's part of [`super::craig_bampton_modes`], on the same
+/// factor of `K_NN`. `rigid` (possibly empty) serves to name the free DOFs
+/// when the boundary does not support the body.
 pub fn constraint_modes(
     stiffness: &SparseMat,
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
 ) -> Result<Mat<f64>, ReduceError> {
+    // The mass takes no part: an empty one of the same size.
     let n = stiffness.nrows();
-    let interior = complement(boundary, n);
-    mechanism_check(boundary, &interior, dof_map, rigid)?;
-    let k_nn = sparse::submatrix(stiffness, &interior, &interior);
-    let k_nh = sparse::submatrix(stiffness, &interior, boundary);
-    let ldlt = Ldlt::factorize(&k_nn)
-        .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |k| interior[k]))?;
-    let rhs = -k_nh.to_dense();
-    let u_n = ldlt.solve(rhs.as_ref());
-    Ok(constraint_columns(n, boundary, &interior, &u_n))
+    let no_mass = flexbody_linalg::sparse::from_triplets(n, n, &[])?;
+    let matrices = Matrices::lent(stiffness, &no_mass);
+    let (psi, _, _) =
+        craig_bampton_modes_from(matrices, boundary, dof_map, rigid, Wanted::Lowest(0))?;
+    Ok(psi)
 }
 
 /// The columns `[I; u_N]` of eq. 16 with the sorting undone (eq. 17), from

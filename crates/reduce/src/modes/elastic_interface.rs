@@ -14,15 +14,17 @@
 //! separate solvers paid two orderings and three factorisations. When they
 //! do not, the same pencil held at the interface gives `K_NN` (equal to
 //! `(K + C)_NN`) for the constraint modes, and the Lanczos runs at a
-//! negative shift; without eigenmodes it is the one factorisation. Springs
-//! off the interface, and small models, take the separate path.
+//! negative shift; without eigenmodes it is the one factorisation. A small
+//! model, whose eigen solve is the dense one ([`flexbody_linalg::solver`]),
+//! takes the constraint modes from `K_NN` too. Springs off the interface
+//! take a separate factorisation of `K_NN` for the constraint modes.
 //!
 //! The free body's products are the pencil's less the springs' (eq. 28:
 //! `T^T K T = T^T (K + C) T - T^T C T`).
 
 use super::attachment::unit_loads;
 use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
-use super::eigen::{dense_path, eigenmodes, eigenmodes_on, Wanted};
+use super::eigen::{eigenmodes_on, Wanted};
 use super::{complement, EigenModes, RigidModes};
 use crate::products::{Matrices, Products, Sprung};
 use crate::ReduceError;
@@ -32,6 +34,7 @@ use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
+use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// Constraint modes of `stiffness` (m x s) and the eigenmodes of `band` of
@@ -64,20 +67,26 @@ pub(crate) fn elastic_residual_modes_from<'a>(
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    if dense_path(n, band) || !on_equations(&springs, boundary) {
-        let (k, m) = (matrices.k(), matrices.m());
-        let supported = sparse::add_scaled(k, 1.0, &springs)?;
-        let phi = eigenmodes(&supported, m, band)?;
-        let psi = constraint_modes(k, boundary, dof_map, rigid)?;
-        return Ok((psi, phi, Products::Full(matrices)));
+    let hook = progress::global();
+    if !on_equations(&springs, boundary) {
+        // Springs off the interface: the constraint modes of K on their
+        // own factorisation, the eigenmodes on the pencil of K + C.
+        let psi = constraint_modes(matrices.k(), boundary, dof_map, rigid)?;
+        let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
+        let pencil =
+            ShiftedPencil::analyze_reporting(&supported, matrices.m(), Ordering::Auto, &*hook)?;
+        drop(supported);
+        let full = matrices.kept_if_small(n, band);
+        let phi = eigenmodes_on(&pencil, None, &EigenRequest::new(band))?;
+        let sprung = Products::Sprung(Box::new(Sprung { pencil, springs }));
+        return Ok((psi, phi, Products::full_or(full, sprung)));
     }
     mechanism_check(boundary, &interior, dof_map, rigid)?;
-    let hook = progress::global();
     let pencil = {
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
         ShiftedPencil::analyze_reporting(&supported, matrices.m(), Ordering::Auto, &*hook)?
     };
-    drop(matrices);
+    let full = matrices.kept_if_small(n, band);
     let sprung = Sprung { pencil, springs };
     let pencil = &sprung.pencil;
     if band == Wanted::Lowest(0) {
@@ -87,9 +96,17 @@ pub(crate) fn elastic_residual_modes_from<'a>(
             vectors: Mat::zeros(n, 0),
             values: vec![],
         };
-        return Ok((psi, phi, Products::Sprung(Box::new(sprung))));
+        return Ok((
+            psi,
+            phi,
+            Products::full_or(full, Products::Sprung(Box::new(sprung))),
+        ));
     }
-    let regular = if supports_rigid_motion(&sprung.springs, rigid)? {
+    // The factor of K + C serves the constraint modes only where it then
+    // serves the Lanczos run too; beside the dense eigen solver, K_NN
+    // gives them directly.
+    let shared = !Solver::Auto.is_dense(n, band);
+    let regular = if shared && supports_rigid_motion(&sprung.springs, rigid)? {
         regular_factor(pencil.factorize_static(&[], &*hook))?
     } else {
         None
@@ -97,7 +114,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     let (psi, phi) = match regular {
         Some(factor) => {
             let psi = constraint_modes_by_flexibility(pencil, &factor, boundary, &interior);
-            let phi = eigenmodes_on(pencil, Some(factor), band, Some(0.0), None)?;
+            let phi = eigenmodes_on(pencil, Some(factor), &EigenRequest::new(band).shift(0.0))?;
             let psi = match psi {
                 Some(psi) => psi,
                 // Springs so soft that the flexibility lost the interior
@@ -109,10 +126,17 @@ pub(crate) fn elastic_residual_modes_from<'a>(
         None => {
             let (psi, held) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
             // The held factor lends its storage to the shifted one.
-            (psi, eigenmodes_on(pencil, Some(held), band, None, None)?)
+            (
+                psi,
+                eigenmodes_on(pencil, Some(held), &EigenRequest::new(band))?,
+            )
         }
     };
-    Ok((psi, phi, Products::Sprung(Box::new(sprung))))
+    Ok((
+        psi,
+        phi,
+        Products::full_or(full, Products::Sprung(Box::new(sprung))),
+    ))
 }
 
 /// The constraint modes from the factor of `K + C`: `X X_H^-1` for unit

@@ -7,10 +7,11 @@
 //! constraint modes: one ordering and one factorisation of `K_NN` serve
 //! both (plus the Sturm check's), where two separate solvers would pay for
 //! two. Guyan's static condensation (no eigenmodes) takes the same path
-//! without the Lanczos run. Small models take the separate dense path.
+//! without the eigen solve. On small interiors the pencil's eigen solve is
+//! the dense one ([`flexbody_linalg::solver`]).
 
-use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
-use super::eigen::{dense_path, eigenmodes_on, fixed_interface_eigenmodes, Wanted};
+use super::constraint::{constraint_columns, mechanism_check, mechanism_error};
+use super::eigen::{eigenmodes_on, Wanted};
 use super::{complement, expand, EigenModes, RigidModes};
 use crate::products::{Bordered, Matrices, Products};
 use crate::ReduceError;
@@ -19,6 +20,7 @@ use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::progress::{self, Stage};
 use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
 
 /// Constraint modes (m x s) and the fixed-interface eigenmodes of `band`
@@ -48,15 +50,6 @@ pub(crate) fn craig_bampton_modes_from<'a>(
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    // Small interiors, and a quarter of all modes or more: dense.
-    if dense_path(interior.len(), band) {
-        let (stiffness, mass) = (matrices.k(), matrices.m());
-        return Ok((
-            constraint_modes(stiffness, boundary, dof_map, rigid)?,
-            fixed_interface_eigenmodes(stiffness, mass, boundary, band)?,
-            Products::Full(matrices),
-        ));
-    }
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let hook = progress::global();
     let pencil = ShiftedPencil::analyze_within_reporting(
@@ -73,7 +66,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
         interior,
         boundary.to_vec(),
     );
-    drop(matrices);
+    let full = matrices.kept_if_small(bordered.interior.len(), band);
     let pencil = &bordered.pencil;
     let interior = &bordered.interior;
     let k_factor = pencil
@@ -92,11 +85,12 @@ pub(crate) fn craig_bampton_modes_from<'a>(
             values: vec![],
         }
     } else {
-        let found = eigenmodes_on(pencil, Some(k_factor), band, Some(0.0), None)?;
+        let found = eigenmodes_on(pencil, Some(k_factor), &EigenRequest::new(band).shift(0.0))?;
         EigenModes {
             vectors: expand(&found.vectors, interior, n),
             values: found.values,
         }
     };
-    Ok((psi, phi, Products::Bordered(Box::new(bordered))))
+    let products = Products::full_or(full, Products::Bordered(Box::new(bordered)));
+    Ok((psi, phi, products))
 }

@@ -9,11 +9,13 @@
 //! of one node; never a support that constrains the body, Bild 4b), and the
 //! rigid part removed: `t = G x`, `G = I - T_st T_st^T M` (eq. 20).
 
-use super::{attachment::attachment_modes, complement, expand, rigid::RigidModes};
+use super::{attachment::attachment_modes, rigid::RigidModes};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
-use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
@@ -127,34 +129,59 @@ pub fn inertia_relief_attachment_modes(
         return attachment_modes(stiffness, loads, dof_map);
     }
     check_support(rigid, support, dof_map)?;
-    let n = stiffness.nrows();
-    let free = complement(support, n);
-    let k_ff = sparse::submatrix(stiffness, &free, &free);
-    let ldlt = Ldlt::factorize(&k_ff).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => ReduceError::Singular {
-            what: SUPPORTED,
-            dof: dof_map.dof(free[index]),
-        },
-        other => other.into(),
-    })?;
-    relieved_modes(
-        |x| sparse::symmetric_mul(mass, x),
+    let hook = progress::global();
+    let pencil = ShiftedPencil::analyze_reporting(stiffness, mass, Ordering::Auto, &*hook)?;
+    Ok(inertia_relief_on(&pencil, rigid, loads, support, dof_map)?.0)
+}
+
+/// [`inertia_relief_attachment_modes`] on the pencil's factor of `K` held
+/// at the `support` equations (a checked support of a body with rigid-body
+/// modes), returned with it: the held operator of the Lanczos run
+/// afterwards ([`flexbody_linalg::lanczos::Held`]).
+pub(crate) fn inertia_relief_on(
+    pencil: &ShiftedPencil,
+    rigid: &RigidModes,
+    loads: &Mat<f64>,
+    support: &[usize],
+    dof_map: &DofMap,
+) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
+    let hook = progress::global();
+    let held = pencil
+        .factorize_static(support, &*hook)
+        .map_err(|e| match e {
+            LinalgError::Singular { index, .. } => ReduceError::Singular {
+                what: SUPPORTED,
+                dof: dof_map.dof(index),
+            },
+            other => other.into(),
+        })?;
+    hook.report(&Stage::Solves {
+        columns: loads.ncols(),
+    });
+    let t_a = relieved_modes(
+        |x| pencil.mul_mass(x),
         rigid,
         loads,
-        |p_g| {
-            let rhs = Mat::from_fn(free.len(), p_g.ncols(), |i, j| p_g[(free[i], j)]);
-            expand(&ldlt.solve(rhs.as_ref()), &free, n)
+        |mut p_g| {
+            for &i in support {
+                for j in 0..p_g.ncols() {
+                    p_g[(i, j)] = 0.0;
+                }
+            }
+            held.solve_in_place(p_g.as_mut());
+            p_g
         },
-    )
+    )?;
+    Ok((t_a, held))
 }
 
 /// What a singular stiffness on the support is called in errors.
-pub(crate) const SUPPORTED: &str = "the stiffness matrix on the statically determinate support";
+const SUPPORTED: &str = "the stiffness matrix on the statically determinate support";
 
 /// Eq. 20 around a solver of the supported body: `solve(P_g)` returns `x`
 /// with `K x = P_g` on the free equations and `x = 0` on the support; the
 /// result is `G x = x - T_st (T_st^T M x)`. `mul_mass` gives `M X`.
-pub(crate) fn relieved_modes(
+fn relieved_modes(
     mul_mass: impl Fn(MatRef<'_, f64>) -> Mat<f64>,
     rigid: &RigidModes,
     loads: &Mat<f64>,

@@ -59,7 +59,7 @@ fn reduced_matrices_are_symmetric_and_orthonormalisation_keeps_the_spectrum() {
         }
         // The free (not supported) K was reduced.
         let k = project(&s.stiffness, body.basis.as_ref());
-        assert_eq!(max_abs((&k - &body.stiffness).as_ref()), 0.0);
+        assert_eq!(max_abs((&k - &body.stiffness).as_ref()), 0.0, "{method}");
         let o = body.orthonormalized().unwrap();
         assert!(identity_error(&o.mass) < 1e-10);
         let (f1, f2) = (body.frequencies_hz().unwrap(), o.frequencies_hz().unwrap());

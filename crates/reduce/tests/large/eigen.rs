@@ -8,7 +8,7 @@ use flexbody_linalg::eigen::Wanted;
 use flexbody_linalg::lanczos::{lanczos, LanczosParams};
 use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::sparse;
-use flexbody_reduce::modes::eigen::{eigenmodes_with, EigenSolver, SPARSE_FROM};
+use flexbody_reduce::modes::eigen::{eigenmodes_with, Solver, SPARSE_FROM};
 use flexbody_reduce::{reduce, Method, ReduceError, Reduction};
 
 #[test]
@@ -16,8 +16,8 @@ fn sparse_path_equals_dense_on_a_solid_bar() {
     // 10 x 3 x 3 C3D8: 528 DOFs, free; 20 modes (6 rigid).
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
-    let sparse = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Sparse).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Dense).unwrap();
+    let sparse = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Sparse).unwrap();
     assert_close(&sparse.values, &dense.values, 1e-10);
     // The same modes: |phi_s^T M phi_d| = 1 on the simple elastic ones.
     let overlap = sparse.vectors.transpose() * m * &dense.vectors;
@@ -38,7 +38,7 @@ fn owned_matrices_give_the_same_modes_and_their_residuals() {
     use flexbody_reduce::modes::eigen::{eigenmodes_owned, Wanted};
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Dense).unwrap();
     let (modes, residuals) = eigenmodes_owned(k.clone(), m.clone(), Wanted::Lowest(20)).unwrap();
     assert_close(&modes.values, &dense.values, 1e-10);
     assert_eq!(residuals.len(), 20);
@@ -58,7 +58,7 @@ fn a_cube_has_its_repeated_frequencies_with_full_multiplicity() {
     let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
     assert!(s.len() >= SPARSE_FROM);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), EigenSolver::Dense)
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), Solver::Dense)
         .unwrap()
         .values;
     let count = (24..40)
@@ -200,10 +200,10 @@ fn time_dense_against_sparse() {
         let s = block(nx, ny, nz, [1.0, 0.2, 0.2], false);
         let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
         let t = std::time::Instant::now();
-        let d = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Dense).unwrap();
+        let d = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Dense).unwrap();
         let td = t.elapsed().as_secs_f64();
         let t = std::time::Instant::now();
-        let sp = eigenmodes_with(k, m, Wanted::Lowest(20), EigenSolver::Sparse).unwrap();
+        let sp = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Sparse).unwrap();
         let ts = t.elapsed().as_secs_f64();
         let err = d
             .values
@@ -250,7 +250,7 @@ fn a_stalled_run_finishes_on_shifts_above_the_band() {
     let g: Mat<f64> = x.transpose() * m * x;
     let dev = (&g - Mat::<f64>::identity(count, count)).norm_max();
     assert!(dev < 1e-12, "{dev:e}");
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), Solver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-9);
     // The band up to midway between modes 140 and 141: counted first, then
     // the stalled run finishes on a factor at the band's bound.
@@ -291,7 +291,7 @@ fn a_slow_run_on_a_small_basis_accepts_no_mode_above_its_floor() {
     );
     let worst = found.residuals.iter().copied().fold(0.0, f64::max);
     assert!(worst < 1e-7, "{:?}", found.residuals);
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), Solver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-9);
 }
 
@@ -312,7 +312,7 @@ fn sweeps_before_the_first_restart_are_no_stall() {
     assert!(found.stats.restarts > 0, "{:?}", found.stats);
     assert_eq!(found.stats.runs, 1, "{sturm:?}");
     assert_eq!(sturm.found_first, sturm.count, "{sturm:?}");
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), EigenSolver::Dense).unwrap();
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(count), Solver::Dense).unwrap();
     assert_close(&found.pairs.values, &dense.values, 1e-10);
 }
 
@@ -328,7 +328,7 @@ fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
     let s = block(6, 6, 6, [0.3, 0.3, 0.3], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
     let n = k.nrows();
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(n), EigenSolver::Dense)
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(n), Solver::Dense)
         .unwrap()
         .values;
     let params = LanczosParams::default();
@@ -377,7 +377,7 @@ fn a_count_whose_basis_would_span_the_model_is_solved_densely() {
 fn a_band_bounded_on_an_eigenvalue_is_no_error() {
     let s = block(40, 2, 2, [2.0, 0.05, 0.05], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
-    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), EigenSolver::Dense)
+    let dense = eigenmodes_with(k, m, Wanted::Lowest(40), Solver::Dense)
         .unwrap()
         .values;
     let params = LanczosParams::default();

@@ -8,3 +8,4 @@
 mod eigen;
 mod methods;
 mod models;
+mod reference;
