@@ -2,11 +2,15 @@
 //! code (free bodies with 6 rigid-body modes; cubes have repeated
 //! eigenvalues).
 
+use super::block_qr::{dot, orthonormalize_block};
+use super::run::Rng;
+use super::sturm::shift_above;
 use super::*;
 use crate::eigen::generalized_symmetric;
 use crate::progress::NoProgress;
 use crate::sparse::from_triplets;
 use faer::sparse::Triplet;
+use faer::Mat;
 
 /// A free truss lattice of `nx * ny * nz` nodes with unit spacing: springs
 /// along every edge, face diagonal and body diagonal of each cell (stiffness
