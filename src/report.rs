@@ -8,7 +8,7 @@
 
 use crate::fem::{DofKind, Substructure, Support};
 use crate::input::Component;
-use crate::linalg::{memory, ordering::Ordering, shift_invert::ShiftedPencil, LinalgError};
+use crate::linalg::{memory, ordering::Ordering, pencil::Pencil, LinalgError};
 use crate::reduce::modes::{eigenmodes, eigenmodes_owned, rigid_motion_count, Wanted, ZERO_GAP};
 use crate::reduce::{ReduceError, ReducedBody};
 use crate::study::{fmt_omega, StudyResult};
@@ -298,7 +298,13 @@ pub struct FactorSize {
 pub fn factor_size(sub: &Substructure) -> Result<FactorSize, LinalgError> {
     let start = std::time::Instant::now();
     let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
-    let pencil = ShiftedPencil::analyze(k, m, Ordering::Auto)?;
+    let pencil = Pencil::analyze(
+        k,
+        m,
+        None,
+        Ordering::Auto,
+        &flexbody_linalg::progress::NoProgress,
+    )?;
     Ok(FactorSize {
         ordering: match pencil.ordering() {
             Ordering::Amd => "AMD",

@@ -11,7 +11,7 @@
 //! - [`eigen`]: the generalized symmetric eigenproblem `K x = lambda M x`,
 //!   dense;
 //! - [`lanczos`]: its sparse solver for large models (shift-invert block
-//!   Lanczos, thick restart, Sturm check), over [`shift_invert`] and the
+//!   Lanczos, thick restart, Sturm check), over [`pencil`] and the
 //!   fill-reducing [`ordering`], reporting to a [`progress`] hook;
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
@@ -23,8 +23,8 @@ mod lower;
 pub mod memory;
 pub mod ordering;
 pub mod orthonormal;
+pub mod pencil;
 pub mod progress;
-pub mod shift_invert;
 pub mod solver;
 pub mod sparse;
 mod tall;

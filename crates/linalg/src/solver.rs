@@ -1,7 +1,7 @@
 //! The one eigen entry point: `K phi = lambda M phi` (report eq. 21,
 //! undamped) by the solver that suits the request, chosen here.
 //!
-//! Two solvers stand behind [`eigen`] and [`ShiftedPencil::eigen`]:
+//! Two solvers stand behind [`eigen`] and [`Pencil::eigen`]:
 //! - up to [`SPARSE_FROM`] equations (and whenever more than a quarter of
 //!   all pairs is asked for, up to [`DENSE_LIMIT`]), the dense shift-invert
 //!   solver of [`crate::eigen`], which is the faster and, for the low modes,
@@ -18,8 +18,8 @@ use crate::eigen::{ensure_dense_room, generalized_symmetric, EigenPairs, Wanted}
 use crate::lanczos::{
     lanczos, lanczos_on, residuals_of, Held, LanczosParams, LanczosStats, SparseEigen,
 };
+use crate::pencil::{Factor, Pencil};
 use crate::progress::Progress;
-use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::{LinalgError, SparseMat};
 use faer::Mat;
 
@@ -143,7 +143,7 @@ pub fn eigen(
     Ok(dense_answer(pairs, residuals))
 }
 
-impl ShiftedPencil {
+impl Pencil {
     /// The eigenpairs `request` wants, by the solver it names or the one
     /// [`Solver::Auto`] chooses for this pencil's size. On the sparse path
     /// `factor`, a factor of this pencil the caller no longer needs,
@@ -154,7 +154,7 @@ impl ShiftedPencil {
     /// returns those it has.
     pub fn eigen(
         &self,
-        factor: Option<ShiftedFactor>,
+        factor: Option<Factor>,
         request: &EigenRequest<'_>,
         progress: &dyn Progress,
     ) -> Result<SparseEigen, LinalgError> {

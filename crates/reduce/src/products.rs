@@ -4,7 +4,7 @@
 //!
 //! A caller that hands `K` and `M` over ([`Held::Given`]) lets a large
 //! model's solver drop them as soon as it holds its compact copy
-//! (the lower triangles in [`ShiftedPencil`]): the factorisations and the
+//! (the lower triangles in [`Pencil`]): the factorisations and the
 //! Lanczos run then find the memory of the full matrices free, 2.4 GiB of
 //! a 1e6-DOF solid. The products afterwards come from that copy
 //! ([`Products::Pencil`]), or, for a body held at its interface, from the
@@ -15,7 +15,7 @@
 use crate::modes::eigen::{eigenmodes, eigenmodes_on, Wanted};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
-use flexbody_linalg::shift_invert::ShiftedPencil;
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, SparseMat};
 
@@ -91,7 +91,7 @@ pub(crate) enum Products<'a> {
     /// small model: the products are those of [`sparse::project`]).
     Full(Matrices<'a>),
     /// The compact copy of the pencil the eigen solver analysed.
-    Pencil(ShiftedPencil),
+    Pencil(Pencil),
     /// A pencil of the interior equations only, bordered by the interface.
     Bordered(Box<Bordered>),
     /// The pencil of the body on its springs.
@@ -101,7 +101,7 @@ pub(crate) enum Products<'a> {
 /// `K + C` and `M` of the body on its interface springs `C`: the products
 /// of the free body take the springs' part off again (eq. 28).
 pub(crate) struct Sprung {
-    pub pencil: ShiftedPencil,
+    pub pencil: Pencil,
     pub springs: SparseMat,
 }
 
@@ -110,7 +110,7 @@ pub(crate) struct Sprung {
 /// `K_NB`, `M_NB` (sparse) and `K_BB`, `M_BB` (dense), all exact copies
 /// of the model's entries.
 pub(crate) struct Bordered {
-    pub pencil: ShiftedPencil,
+    pub pencil: Pencil,
     pub interior: Vec<usize>,
     pub boundary: Vec<usize>,
     pub k_nb: SparseMat,
@@ -123,7 +123,7 @@ impl Bordered {
     /// The coupling blocks of `k` and `m` around `pencil`, the pencil of
     /// their `interior` equations.
     pub(crate) fn new(
-        pencil: ShiftedPencil,
+        pencil: Pencil,
         k: &SparseMat,
         m: &SparseMat,
         interior: Vec<usize>,

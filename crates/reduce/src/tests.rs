@@ -275,7 +275,7 @@ fn soft_springs_give_the_constraint_modes_by_refinement() {
     // interior equilibrium bring the constraint modes back to round-off.
     use crate::modes::elastic_interface::constraint_modes_by_flexibility;
     use flexbody_linalg::ordering::Ordering;
-    use flexbody_linalg::shift_invert::ShiftedPencil;
+    use flexbody_linalg::pencil::Pencil;
     use flexbody_linalg::sparse::add_scaled;
     let model = l_frame();
     let (s, rigid) = setup(&model);
@@ -300,7 +300,14 @@ fn soft_springs_give_the_constraint_modes_by_refinement() {
         .collect();
     let c = crate::method::support_stiffness(&sub(&model), &springs).unwrap();
     let supported = add_scaled(&s.stiffness, 1.0, &c).unwrap();
-    let pencil = ShiftedPencil::analyze(&supported, &s.mass, Ordering::Auto).unwrap();
+    let pencil = Pencil::analyze(
+        &supported,
+        &s.mass,
+        None,
+        Ordering::Auto,
+        &flexbody_linalg::progress::NoProgress,
+    )
+    .unwrap();
     let factor = pencil.factorize(0.0).unwrap();
     let interior: Vec<usize> = (0..map.len()).filter(|i| !h.contains(i)).collect();
     let psi = constraint_modes_by_flexibility(&pencil, &factor, &h, &interior)

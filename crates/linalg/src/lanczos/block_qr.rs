@@ -3,7 +3,7 @@
 //! breakdown handling where a block is too ill-conditioned for it.
 
 use super::run::Rng;
-use crate::shift_invert::ShiftedPencil;
+use crate::pencil::Pencil;
 use crate::tall;
 use faer::{ColRef, Mat, MatMut, MatRef, Side};
 
@@ -36,7 +36,7 @@ pub(super) fn orthonormalize_block(
     mw: &mut Mat<f64>,
     before: &[f64],
     others: &[MatRef<'_, f64>],
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     rng: &mut Rng,
 ) -> Mat<f64> {
     cholesky_qr2(w, mw, others, pencil, rng)
@@ -55,7 +55,7 @@ fn cholesky_qr2(
     w: &mut Mat<f64>,
     mw: &mut Mat<f64>,
     others: &[MatRef<'_, f64>],
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     rng: &mut Rng,
 ) -> Option<Mat<f64>> {
     let b = w.ncols();
@@ -96,7 +96,7 @@ fn gram_schmidt_block(
     mw: &mut Mat<f64>,
     before: &[f64],
     others: &[MatRef<'_, f64>],
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     rng: &mut Rng,
 ) -> Mat<f64> {
     let (n, b) = (w.nrows(), w.ncols());

@@ -6,8 +6,8 @@ use super::finish::residuals_of;
 use super::run::basis_for;
 use super::LanczosParams;
 use crate::eigen::{EigenPairs, Wanted};
+use crate::pencil::Pencil;
 use crate::progress::{Progress, Stage};
-use crate::shift_invert::ShiftedPencil;
 use crate::LinalgError;
 use faer::Mat;
 
@@ -26,7 +26,7 @@ pub(super) fn spans_the_space(nev: usize, free: usize, params: &LanczosParams) -
 /// for a count [`spans_the_space`], with their residuals. For a band, the
 /// eigenvalues below the bound are the dense solver's.
 pub(super) fn dense_pairs(
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     wanted: Wanted,
     nev: usize,
     progress: &dyn Progress,

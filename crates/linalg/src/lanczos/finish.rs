@@ -7,8 +7,8 @@ use super::run::Locked;
 use super::solver::Solver;
 use super::{SparseEigen, SturmReport};
 use crate::eigen::{EigenPairs, Wanted};
+use crate::pencil::Pencil;
 use crate::progress::Stage;
-use crate::shift_invert::ShiftedPencil;
 use crate::tall;
 use crate::LinalgError;
 use faer::{Mat, MatRef, Side};
@@ -68,7 +68,7 @@ impl Solver<'_> {
 
 /// The wanted converged vectors in ascending `lambda` (the lowest `count`,
 /// or those below a band's bound), and `M` times them.
-fn wanted_vectors(pencil: &ShiftedPencil, locked: Locked, wanted: Wanted) -> (Mat<f64>, Mat<f64>) {
+fn wanted_vectors(pencil: &Pencil, locked: Locked, wanted: Wanted) -> (Mat<f64>, Mat<f64>) {
     let n = locked.x.nrows();
     let mut order: Vec<usize> = (0..locked.lambda.len()).collect();
     order.sort_by(|&a, &b| locked.lambda[a].total_cmp(&locked.lambda[b]));
@@ -108,7 +108,7 @@ fn restore_orthogonality(vectors: &mut Mat<f64>, mx: &mut Mat<f64>) -> Result<()
 /// eigenvalues, rigid-body modes at round-off), so the columns of
 /// `vectors`, `mx` and `K x` are sorted with them.
 fn rayleigh_ascending(
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     vectors: &mut Mat<f64>,
     mx: &mut Mat<f64>,
 ) -> (Vec<f64>, Mat<f64>) {

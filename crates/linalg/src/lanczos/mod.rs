@@ -91,8 +91,8 @@ mod sturm;
 use crate::eigen::EigenPairs;
 use crate::eigen::Wanted;
 use crate::ordering::Ordering;
+use crate::pencil::{Factor, Pencil};
 use crate::progress::Progress;
-use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::sparse::symmetric_mul;
 use crate::{LinalgError, SparseMat};
 use faer::MatRef;
@@ -232,7 +232,7 @@ pub fn lanczos(
     progress: &dyn Progress,
 ) -> Result<SparseEigen, LinalgError> {
     let t = Instant::now();
-    let pencil = ShiftedPencil::analyze_reporting(k, m, params.ordering, progress)?;
+    let pencil = Pencil::analyze(k, m, None, params.ordering, progress)?;
     let seconds = t.elapsed().as_secs_f64();
     let mut found = lanczos_on(&pencil, None, wanted, None, params, progress)?;
     found.stats.analysis_seconds = seconds;
@@ -245,11 +245,11 @@ pub fn lanczos(
 /// `params.shift`; otherwise its storage is reused. With `held`, the
 /// operator is the free body's on its support ([`Held`]) at shift 0, and
 /// `factor`, if given, must be the held factor
-/// ([`ShiftedPencil::factorize_static`] of `held.support`), and a count
+/// ([`Pencil::factorize_static`] of `held.support`), and a count
 /// must ask for at least one elastic mode.
 pub fn lanczos_on(
-    pencil: &ShiftedPencil,
-    factor: Option<ShiftedFactor>,
+    pencil: &Pencil,
+    factor: Option<Factor>,
     wanted: Wanted,
     held: Option<Held<'_>>,
     params: &LanczosParams,

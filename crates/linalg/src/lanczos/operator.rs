@@ -6,8 +6,8 @@
 
 use super::run::basis_shape;
 use super::{Held, LanczosParams, LanczosStats};
+use crate::pencil::{Factor, Pencil};
 use crate::progress::{Progress, Stage};
-use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::tall;
 use crate::LinalgError;
 use faer::{Mat, MatRef};
@@ -27,7 +27,7 @@ pub(super) struct HeldState<'a> {
 /// the operator is `-(K - sigma M)^-1 M`: its positive `theta = 1 / (sigma -
 /// lambda)` are the eigenvalues below the shift, the largest nearest it.
 pub(super) struct Operator<'p> {
-    pub(super) pencil: &'p ShiftedPencil,
+    pub(super) pencil: &'p Pencil,
     sigma: f64,
     /// 1 below the spectrum, -1 above the wanted eigenvalues:
     /// `theta = sign / (lambda - sigma)`.
@@ -35,7 +35,7 @@ pub(super) struct Operator<'p> {
     /// The free body's support and rigid-body modes, until the shift
     /// moves above the band.
     held: Option<HeldState<'p>>,
-    factor: Option<ShiftedFactor>,
+    factor: Option<Factor>,
     /// Storage of a factor no longer held, reused by the next one.
     spare: Vec<f64>,
     progress: &'p dyn Progress,
@@ -53,10 +53,10 @@ impl<'p> Operator<'p> {
     /// (a factor of `K - sigma M`, or the held one), else factorised when
     /// first needed in the storage `spare`.
     pub(super) fn new(
-        pencil: &'p ShiftedPencil,
+        pencil: &'p Pencil,
         sigma: f64,
         held: Option<Held<'p>>,
-        factor: Option<ShiftedFactor>,
+        factor: Option<Factor>,
         spare: Vec<f64>,
         progress: &'p dyn Progress,
     ) -> Self {
@@ -95,7 +95,7 @@ impl<'p> Operator<'p> {
 
     /// Factorises `K - sigma M` (if not held), checking that `sigma` lies
     /// below the spectrum.
-    pub(super) fn factorize(&mut self) -> Result<&ShiftedFactor, LinalgError> {
+    pub(super) fn factorize(&mut self) -> Result<&Factor, LinalgError> {
         if self.factor.is_none() {
             let t = Instant::now();
             let sigma = self.sigma;
@@ -202,10 +202,7 @@ impl<'p> Operator<'p> {
     /// eigenvalue, a zero pivot, is moved up by a relative 1e-8), in the
     /// storage of the operator's factor, with its count of eigenvalues
     /// below `s`; counted as the Sturm check's time.
-    pub(super) fn factor_at(
-        &mut self,
-        bound: f64,
-    ) -> Result<(f64, usize, ShiftedFactor), LinalgError> {
+    pub(super) fn factor_at(&mut self, bound: f64) -> Result<(f64, usize, Factor), LinalgError> {
         let t = Instant::now();
         let mut storage = match self.factor.take() {
             Some(f) => f.into_storage(),

@@ -23,8 +23,8 @@ use super::run::{krylov_schur, Locked, Rng, Run, Stalled};
 use super::sturm::{Sturm, STALL_SWEEPS};
 use super::{Held, LanczosParams, LanczosStats, SparseEigen, SturmReport};
 use crate::eigen::{EigenPairs, Wanted};
+use crate::pencil::{Factor, Pencil};
 use crate::progress::{Progress, Stage};
-use crate::shift_invert::{ShiftedFactor, ShiftedPencil};
 use crate::LinalgError;
 use faer::Mat;
 use std::time::Instant;
@@ -58,7 +58,7 @@ pub(super) enum State {
 /// One solve of [`super::lanczos_on`]: the operator, the pairs converged
 /// so far and the work counted.
 pub(super) struct Solver<'a> {
-    pub(super) pencil: &'a ShiftedPencil,
+    pub(super) pencil: &'a Pencil,
     pub(super) wanted: Wanted,
     held: Option<Held<'a>>,
     pub(super) params: &'a LanczosParams,
@@ -89,8 +89,8 @@ impl<'a> Solver<'a> {
     /// initial shift: `params.shift`, else `-1e-6 trace(K) / trace(M)`
     /// (below every eigenvalue, scaled to the model), or 0 when `held`.
     pub(super) fn new(
-        pencil: &'a ShiftedPencil,
-        factor: Option<ShiftedFactor>,
+        pencil: &'a Pencil,
+        factor: Option<Factor>,
         wanted: Wanted,
         held: Option<Held<'a>>,
         params: &'a LanczosParams,

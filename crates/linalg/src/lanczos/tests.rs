@@ -231,7 +231,8 @@ fn a_hinge_shows_nine_zero_modes() {
 #[test]
 fn block_orthonormalisation_in_the_m_inner_product() {
     let (k, m) = lattice(4, 3, 3, true, false);
-    let pencil = ShiftedPencil::analyze(&k, &m, Ordering::Amd).unwrap();
+    let pencil =
+        Pencil::analyze(&k, &m, None, Ordering::Amd, &crate::progress::NoProgress).unwrap();
     let n = m.nrows();
     let mut rng = Rng(7);
     let good = Mat::from_fn(n, 4, |_, _| rng.next());

@@ -5,8 +5,8 @@ use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::progress::{self, Stage};
-use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// What a singular `K` of a supported body is called in errors.
@@ -27,17 +27,17 @@ pub fn attachment_modes(
 ) -> Result<Mat<f64>, ReduceError> {
     let no_mass = sparse::from_triplets(stiffness.nrows(), stiffness.nrows(), &[])?;
     let hook = progress::global();
-    let pencil = ShiftedPencil::analyze_reporting(stiffness, &no_mass, Ordering::Auto, &*hook)?;
+    let pencil = Pencil::analyze(stiffness, &no_mass, None, Ordering::Auto, &*hook)?;
     Ok(attachment_modes_on(&pencil, loads, dof_map)?.0)
 }
 
 /// [`attachment_modes`] on the factor of `K` from `pencil`, returned with
 /// it: the Lanczos operator at shift 0 afterwards.
 pub(crate) fn attachment_modes_on(
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     loads: &Mat<f64>,
     dof_map: &DofMap,
-) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
+) -> Result<(Mat<f64>, Factor), ReduceError> {
     let hook = progress::global();
     let factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
         LinalgError::Singular { index, .. } => ReduceError::Singular {

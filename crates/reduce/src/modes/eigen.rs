@@ -12,7 +12,7 @@ use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use flexbody_linalg::lanczos::SparseEigen;
 use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
+use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::solver::{eigen, EigenRequest};
 use flexbody_linalg::SparseMat;
 
@@ -62,8 +62,7 @@ pub(crate) fn eigenmodes_from<'a>(
 ) -> Result<(EigenModes, Vec<f64>, Products<'a>), ReduceError> {
     available(band, matrices.k().nrows())?;
     let progress = flexbody_linalg::progress::global();
-    let pencil =
-        ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*progress)?;
+    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, &*progress)?;
     let full = matrices.kept_if_small(pencil.dim(), band);
     let found = solve_on(&pencil, None, &EigenRequest::new(band))?;
     let products = Products::full_or(full, Products::Pencil(pencil));
@@ -106,8 +105,8 @@ fn available(wanted: Wanted, available: usize) -> Result<(), ReduceError> {
 /// with, which serves the Lanczos run too (shift 0), and the rigid-body
 /// modes (M-orthonormal) are among the modes returned.
 pub fn eigenmodes_on(
-    pencil: &ShiftedPencil,
-    factor: Option<ShiftedFactor>,
+    pencil: &Pencil,
+    factor: Option<Factor>,
     request: &EigenRequest<'_>,
 ) -> Result<EigenModes, ReduceError> {
     Ok(solve_on(pencil, factor, request)?.pairs)
@@ -116,8 +115,8 @@ pub fn eigenmodes_on(
 /// The solve of [`eigenmodes_on`] with its residuals; fewer modes than a
 /// count asks for is an error.
 fn solve_on(
-    pencil: &ShiftedPencil,
-    factor: Option<ShiftedFactor>,
+    pencil: &Pencil,
+    factor: Option<Factor>,
     request: &EigenRequest<'_>,
 ) -> Result<SparseEigen, ReduceError> {
     available(request.wanted, pencil.dim())?;

@@ -32,8 +32,8 @@ use faer::linalg::solvers::Solve;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::progress::{self, Stage};
-use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
@@ -73,8 +73,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
         // own factorisation, the eigenmodes on the pencil of K + C.
         let psi = constraint_modes(matrices.k(), boundary, dof_map, rigid)?;
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        let pencil =
-            ShiftedPencil::analyze_reporting(&supported, matrices.m(), Ordering::Auto, &*hook)?;
+        let pencil = Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, &*hook)?;
         drop(supported);
         let full = matrices.kept_if_small(n, band);
         let phi = eigenmodes_on(&pencil, None, &EigenRequest::new(band))?;
@@ -84,7 +83,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let pencil = {
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        ShiftedPencil::analyze_reporting(&supported, matrices.m(), Ordering::Auto, &*hook)?
+        Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, &*hook)?
     };
     let full = matrices.kept_if_small(n, band);
     let sprung = Sprung { pencil, springs };
@@ -146,8 +145,8 @@ pub(crate) fn elastic_residual_modes_from<'a>(
 /// `1/c`, which `X_H^-1` cancels: soft springs cost digits, and each
 /// refinement wins them back. `None` if they do not come back.
 pub(crate) fn constraint_modes_by_flexibility(
-    pencil: &ShiftedPencil,
-    factor: &ShiftedFactor,
+    pencil: &Pencil,
+    factor: &Factor,
     boundary: &[usize],
     interior: &[usize],
 ) -> Option<Mat<f64>> {
@@ -218,12 +217,12 @@ const ACCEPTED: f64 = 1e-12;
 /// The constraint modes by `K_NN`: the pencil of `K + C` held at the
 /// interface, with the factor (to lend its storage).
 fn held_constraint_modes(
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     boundary: &[usize],
     interior: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
-) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
+) -> Result<(Mat<f64>, Factor), ReduceError> {
     let (n, s) = (pencil.dim(), boundary.len());
     let hook = progress::global();
     let held = pencil
@@ -298,9 +297,7 @@ pub(crate) fn free_rigid_motions(
 
 /// The factor of `K + C` at shift 0 if it is positive definite; `None` if
 /// a pivot vanishes or turns negative (the springs leave a mechanism).
-fn regular_factor(
-    factor: Result<ShiftedFactor, LinalgError>,
-) -> Result<Option<ShiftedFactor>, ReduceError> {
+fn regular_factor(factor: Result<Factor, LinalgError>) -> Result<Option<Factor>, ReduceError> {
     match factor {
         Ok(f) if f.inertia().negative == 0 => Ok(Some(f)),
         Ok(_) | Err(LinalgError::Singular { .. }) => Ok(None),

@@ -18,8 +18,8 @@ use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{self, Stage};
-use flexbody_linalg::shift_invert::ShiftedPencil;
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
 
@@ -52,10 +52,10 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     let interior = complement(boundary, n);
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let hook = progress::global();
-    let pencil = ShiftedPencil::analyze_within_reporting(
+    let pencil = Pencil::analyze(
         matrices.k(),
         matrices.m(),
-        &interior,
+        Some(&interior),
         Ordering::Auto,
         &*hook,
     )?;

@@ -25,8 +25,8 @@ use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::lanczos::Held;
 use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress;
-use flexbody_linalg::shift_invert::ShiftedPencil;
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
 
@@ -68,8 +68,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         check_support(rigid, support, dof_map)?;
     }
     let hook = progress::global();
-    let pencil =
-        ShiftedPencil::analyze_reporting(matrices.k(), matrices.m(), Ordering::Auto, &*hook)?;
+    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, &*hook)?;
     let full = matrices.kept_if_small(n, at_least(band));
     if nr == 0 {
         // A supported body: K is regular, the attachment modes are K^-1 P

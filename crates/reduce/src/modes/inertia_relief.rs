@@ -14,8 +14,8 @@ use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
+use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::progress::{self, Stage};
-use flexbody_linalg::shift_invert::{ShiftedFactor, ShiftedPencil};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
@@ -130,7 +130,7 @@ pub fn inertia_relief_attachment_modes(
     }
     check_support(rigid, support, dof_map)?;
     let hook = progress::global();
-    let pencil = ShiftedPencil::analyze_reporting(stiffness, mass, Ordering::Auto, &*hook)?;
+    let pencil = Pencil::analyze(stiffness, mass, None, Ordering::Auto, &*hook)?;
     Ok(inertia_relief_on(&pencil, rigid, loads, support, dof_map)?.0)
 }
 
@@ -139,12 +139,12 @@ pub fn inertia_relief_attachment_modes(
 /// modes), returned with it: the held operator of the Lanczos run
 /// afterwards ([`flexbody_linalg::lanczos::Held`]).
 pub(crate) fn inertia_relief_on(
-    pencil: &ShiftedPencil,
+    pencil: &Pencil,
     rigid: &RigidModes,
     loads: &Mat<f64>,
     support: &[usize],
     dof_map: &DofMap,
-) -> Result<(Mat<f64>, ShiftedFactor), ReduceError> {
+) -> Result<(Mat<f64>, Factor), ReduceError> {
     let hook = progress::global();
     let held = pencil
         .factorize_static(support, &*hook)

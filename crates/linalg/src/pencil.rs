@@ -27,7 +27,7 @@ use faer::{Mat, MatMut, MatRef};
 /// for solids: products with `M` read only that), and the analysis of the
 /// union.
 #[derive(Clone, Debug)]
-pub struct ShiftedPencil {
+pub struct Pencil {
     pattern: LowerPattern,
     k: Vec<f64>,
     mass_pattern: LowerPattern,
@@ -57,45 +57,52 @@ impl Clone for Spare {
 
 /// The numeric `LDL^T` of `K - sigma M`.
 #[derive(Clone, Debug)]
-pub struct ShiftedFactor {
+pub struct Factor {
     symbolic: SymbolicLdlt,
     values: Vec<f64>,
     shift: f64,
     signs: Inertia,
     /// The first row (elimination order) whose pivot is round-off against
-    /// its diagonal; an error for [`ShiftedPencil::factorize_static`], legitimate
+    /// its diagonal; an error for [`Pencil::factorize_static`], legitimate
     /// in a shifted, indefinite matrix.
     tiny_pivot: Option<usize>,
-    /// A factor of `K` with fixed equations ([`ShiftedPencil::factorize_static`]).
+    /// A factor of `K` with fixed equations ([`Pencil::factorize_static`]).
     fixed: bool,
 }
 
 /// A pivot at most this fraction of its row's diagonal entry counts as
-/// vanished for [`ShiftedPencil::factorize_static`] (as in [`crate::ldlt::LdltParams`]).
+/// vanished for [`Pencil::factorize_static`] (as in [`crate::ldlt::LdltParams`]).
 const TINY_PIVOT: f64 = 1e-11;
 
-impl ShiftedPencil {
+impl Pencil {
     /// Copies the lower triangles of the symmetric `k` and `m` onto their
     /// union pattern and analyses it with `ordering` (the time goes into the
-    /// ordering for large models). `k` and `m` are not borrowed afterwards.
-    pub fn analyze(k: &SparseMat, m: &SparseMat, ordering: Ordering) -> Result<Self, LinalgError> {
-        Self::analyze_on(k, m, None, ordering)
-    }
-
-    /// [`Self::analyze`] of the submatrices of `k` and `m` on the equations
-    /// `keep` (ascending; renumbered `0..keep.len()`), the body held at the
-    /// others: the pencil's compact copy comes straight from `k` and `m`,
-    /// without the submatrices in full storage.
-    pub fn analyze_within(
+    /// ordering for large models), reporting the ordering and the analysis
+    /// to `progress`. With `within` (ascending equations, renumbered
+    /// `0..within.len()`), the pencil is that of the submatrices on those
+    /// equations, the body held at the others: its compact copy comes
+    /// straight from `k` and `m`, without the submatrices in full storage.
+    /// `k` and `m` are not borrowed afterwards.
+    pub fn analyze(
         k: &SparseMat,
         m: &SparseMat,
-        keep: &[usize],
+        within: Option<&[usize]>,
         ordering: Ordering,
+        progress: &dyn Progress,
     ) -> Result<Self, LinalgError> {
-        Self::analyze_on(k, m, Some(keep), ordering)
+        let t = std::time::Instant::now();
+        let equations = within.map_or(k.nrows(), <[usize]>::len);
+        progress.report(&Stage::Ordering { equations });
+        let pencil = Self::analyze_on(k, m, within, ordering)?;
+        progress.report(&Stage::Analyzed {
+            factor_len: pencil.factor_len(),
+            flops: pencil.factor_flops(),
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        Ok(pencil)
     }
 
-    /// [`Self::analyze`] on all equations or on those `keep`.
+    /// The analysis of [`Self::analyze`], unreported.
     fn analyze_on(
         k: &SparseMat,
         m: &SparseMat,
@@ -239,56 +246,15 @@ impl ShiftedPencil {
     /// Factorises `K - sigma M`. An exactly zero pivot (a shift on an
     /// eigenvalue, or a singular `K` at `sigma = 0`) is an error naming the
     /// row in the original order.
-    pub fn factorize(&self, sigma: f64) -> Result<ShiftedFactor, LinalgError> {
+    pub fn factorize(&self, sigma: f64) -> Result<Factor, LinalgError> {
         self.refactorize(sigma, Vec::new())
     }
 
     /// [`Self::factorize`] into the storage of a factor that is no longer
     /// needed (the factor of a previous shift): the Sturm check of a large
     /// model then holds one factor in memory, not two.
-    pub fn refactorize(&self, sigma: f64, values: Vec<f64>) -> Result<ShiftedFactor, LinalgError> {
+    pub fn refactorize(&self, sigma: f64, values: Vec<f64>) -> Result<Factor, LinalgError> {
         self.factorize_values(sigma, None, values)
-    }
-
-    /// [`Self::analyze`], reporting the ordering and analysis to `progress`.
-    pub fn analyze_reporting(
-        k: &SparseMat,
-        m: &SparseMat,
-        ordering: Ordering,
-        progress: &dyn Progress,
-    ) -> Result<Self, LinalgError> {
-        Self::reporting(k.nrows(), progress, || Self::analyze(k, m, ordering))
-    }
-
-    /// [`Self::analyze_within`], reporting the ordering and analysis to
-    /// `progress`.
-    pub fn analyze_within_reporting(
-        k: &SparseMat,
-        m: &SparseMat,
-        keep: &[usize],
-        ordering: Ordering,
-        progress: &dyn Progress,
-    ) -> Result<Self, LinalgError> {
-        Self::reporting(keep.len(), progress, || {
-            Self::analyze_within(k, m, keep, ordering)
-        })
-    }
-
-    /// Runs an analysis of `equations` equations between its two reports.
-    fn reporting(
-        equations: usize,
-        progress: &dyn Progress,
-        analyze: impl FnOnce() -> Result<Self, LinalgError>,
-    ) -> Result<Self, LinalgError> {
-        let t = std::time::Instant::now();
-        progress.report(&Stage::Ordering { equations });
-        let pencil = analyze()?;
-        progress.report(&Stage::Analyzed {
-            factor_len: pencil.factor_len(),
-            flops: pencil.factor_flops(),
-            seconds: t.elapsed().as_secs_f64(),
-        });
-        Ok(pencil)
     }
 
     /// The `LDL^T` of `K` for static modes, with the equations `fixed` (may
@@ -306,7 +272,7 @@ impl ShiftedPencil {
         &self,
         fixed: &[usize],
         progress: &dyn Progress,
-    ) -> Result<ShiftedFactor, LinalgError> {
+    ) -> Result<Factor, LinalgError> {
         let t = std::time::Instant::now();
         progress.report(&Stage::Factorization { shift: 0.0 });
         let mask = (!fixed.is_empty()).then(|| {
@@ -337,7 +303,7 @@ impl ShiftedPencil {
         sigma: f64,
         fixed: Option<&[bool]>,
         values: Vec<f64>,
-    ) -> Result<ShiftedFactor, LinalgError> {
+    ) -> Result<Factor, LinalgError> {
         // No storage given: the one touched during the analysis, if unused.
         let (mut values, resident) = match values.capacity() {
             0 => self.spare.take(),
@@ -391,7 +357,7 @@ impl ShiftedPencil {
                 signs.zero += 1;
             }
         }
-        Ok(ShiftedFactor {
+        Ok(Factor {
             symbolic: self.symbolic.clone(),
             values,
             shift: sigma,
@@ -402,7 +368,7 @@ impl ShiftedPencil {
     }
 }
 
-impl ShiftedFactor {
+impl Factor {
     /// The shift `sigma` of this factorisation.
     pub fn shift(&self) -> f64 {
         self.shift
@@ -421,12 +387,12 @@ impl ShiftedFactor {
     }
 
     /// Whether this factors `K` with fixed equations rather than
-    /// `K - sigma M` ([`ShiftedPencil::factorize_static`]).
+    /// `K - sigma M` ([`Pencil::factorize_static`]).
     pub fn is_fixed(&self) -> bool {
         self.fixed
     }
 
-    /// The factor's storage, for [`ShiftedPencil::refactorize`].
+    /// The factor's storage, for [`Pencil::refactorize`].
     pub fn into_storage(self) -> Vec<f64> {
         self.values
     }
@@ -489,8 +455,17 @@ mod tests {
             (&m, Ordering::NestedDissection),
             (&consistent, Ordering::NestedDissection),
         ] {
-            let within = ShiftedPencil::analyze_within(&k, m, &keep, ordering).unwrap();
-            let whole = ShiftedPencil::analyze(&sub(&k), &sub(m), ordering).unwrap();
+            let within =
+                Pencil::analyze(&k, m, Some(&keep), ordering, &crate::progress::NoProgress)
+                    .unwrap();
+            let whole = Pencil::analyze(
+                &sub(&k),
+                &sub(m),
+                None,
+                ordering,
+                &crate::progress::NoProgress,
+            )
+            .unwrap();
             let (f, g) = (
                 within.factorize(1.05).unwrap(),
                 whole.factorize(1.05).unwrap(),
@@ -504,9 +479,30 @@ mod tests {
                 "{ordering:?}"
             );
         }
-        assert!(ShiftedPencil::analyze_within(&k, &m, &[0, n], Ordering::Amd).is_err());
-        assert!(ShiftedPencil::analyze_within(&k, &m, &[3, 3, 5], Ordering::Amd).is_err());
-        assert!(ShiftedPencil::analyze_within(&k, &m, &[5, 3], Ordering::Amd).is_err());
+        assert!(Pencil::analyze(
+            &k,
+            &m,
+            Some(&[0, n][..]),
+            Ordering::Amd,
+            &crate::progress::NoProgress
+        )
+        .is_err());
+        assert!(Pencil::analyze(
+            &k,
+            &m,
+            Some(&[3, 3, 5][..]),
+            Ordering::Amd,
+            &crate::progress::NoProgress
+        )
+        .is_err());
+        assert!(Pencil::analyze(
+            &k,
+            &m,
+            Some(&[5, 3][..]),
+            Ordering::Amd,
+            &crate::progress::NoProgress
+        )
+        .is_err());
     }
 
     /// On a supernodal factor, `K - sigma M` formed as the factorisation
@@ -534,7 +530,14 @@ mod tests {
             }
             SparseMat::new(sym.to_owned().unwrap(), val)
         };
-        let pencil = ShiftedPencil::analyze(&k, &m, Ordering::NestedDissection).unwrap();
+        let pencil = Pencil::analyze(
+            &k,
+            &m,
+            None,
+            Ordering::NestedDissection,
+            &crate::progress::NoProgress,
+        )
+        .unwrap();
         assert!(pencil.symbolic.supernodes().is_some());
         let b = Mat::from_fn(n, 3, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
         let sigma = 40.0;
@@ -573,7 +576,8 @@ mod tests {
         let n = 60;
         let (k, m) = chain(n);
         for ordering in [Ordering::Amd, Ordering::NestedDissection] {
-            let pencil = ShiftedPencil::analyze(&k, &m, ordering).unwrap();
+            let pencil =
+                Pencil::analyze(&k, &m, None, ordering, &crate::progress::NoProgress).unwrap();
             let sigma = 1.05;
             let f = pencil.factorize(sigma).unwrap();
             let below = (1..=n)
