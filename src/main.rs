@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use flexbody::linalg::progress::Progress;
 use flexbody::output_folder::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
@@ -218,10 +219,11 @@ fn main() -> ExitCode {
     flexbody::linalg::memory::tune_allocator();
     let start = std::time::Instant::now();
     let cli = Cli::parse();
-    stage_log::install(cli.verbose, start);
+    let progress = stage_log::install(cli.verbose, start);
     flexbody::linalg::memory::set_limit(cli.max_memory);
-    let result = run(cli);
-    flexbody::linalg::progress::set_global(None);
+    let result = run(cli, &*progress);
+    // The terminal display is cleared before an error is printed.
+    drop(progress);
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -231,14 +233,14 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     match cli.command {
         Command::Study {
             model,
             json,
             out,
             no_plots,
-        } => run_study(&model, json, out, no_plots),
+        } => run_study(&model, json, out, no_plots, progress),
         Command::Reduce {
             model,
             interface,
@@ -261,6 +263,7 @@ fn run(cli: Cli) -> Result<()> {
             (&out, format, vtu.as_deref()),
             orthonormalize,
             (json, check),
+            progress,
         ),
         Command::Modes {
             model,
@@ -275,7 +278,7 @@ fn run(cli: Cli) -> Result<()> {
                 None if count == 0 => anyhow::bail!("--count must be at least 1"),
                 None => red::modes::Wanted::Lowest(count),
             };
-            run_modes(&model, &matrices, band, json)
+            run_modes(&model, &matrices, band, json, progress)
         }
         Command::Info {
             model,
@@ -286,12 +289,18 @@ fn run(cli: Cli) -> Result<()> {
             say!("{}", export::read_any(&body)?.summary());
             Ok(())
         }
-        Command::Simulate { model, out, full } => run_simulate(&model, &out, full),
-        Command::Frf { model, out, full } => run_frf(&model, &out, full),
+        Command::Simulate { model, out, full } => run_simulate(&model, &out, full, progress),
+        Command::Frf { model, out, full } => run_frf(&model, &out, full, progress),
     }
 }
 
-fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> Result<()> {
+fn run_study(
+    model: &Path,
+    json: bool,
+    out: Option<PathBuf>,
+    no_plots: bool,
+    progress: &dyn Progress,
+) -> Result<()> {
     let dir = (!no_plots).then(|| {
         out.unwrap_or_else(|| {
             let stem = model
@@ -302,7 +311,7 @@ fn run_study(model: &Path, json: bool, out: Option<PathBuf>, no_plots: bool) -> 
     });
     let file = scenario::read_model_file(model)?;
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
-    let result = study::run_study(&file)?;
+    let result = study::run_study(&file, progress)?;
     if let Some(dir) = &dir {
         plot::plot_study(dir, &result).map_err(anyhow::Error::msg)?;
     }
@@ -342,6 +351,7 @@ fn run_reduce(
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
     (json, check): (bool, Check),
+    progress: &dyn Progress,
 ) -> Result<()> {
     // A wrong output path fails now, not after the reduction.
     match format {
@@ -377,13 +387,13 @@ fn run_reduce(
     } else {
         Keep::Neither
     };
-    let body = reduce_keeping(&mut c.sub, &spec, keep)?;
+    let body = reduce_keeping(&mut c.sub, &spec, keep, progress)?;
     stage_log::step(&format!(
         "reduced: r = {} (writing {})",
         body.r(),
         out.display()
     ));
-    let comparison = report::compare_frequencies(&c.sub, &body, compare)?;
+    let comparison = report::compare_frequencies(&c.sub, &body, compare, progress)?;
     let (full_hz, reduced_hz) = (&comparison.full_hz, &comparison.reduced_hz);
     let metadata = output::index_metadata(&comparison);
     let files = output::body_output(&c.sub, c.model.as_ref(), &body, format, metadata)?;
@@ -434,8 +444,9 @@ fn run_modes(
     matrices: &MatrixArgs,
     band: red::modes::Wanted,
     json: bool,
+    progress: &dyn Progress,
 ) -> Result<()> {
-    let modes = report::natural_frequencies(load(model, matrices)?, band)?;
+    let modes = report::natural_frequencies(load(model, matrices)?, band, progress)?;
     if let Some(mechanism) = &modes.mechanism {
         eprintln!("warning: {}: {mechanism}", model.display());
     }
@@ -503,14 +514,19 @@ fn peak_memory() -> String {
 
 /// The vehicle of a model file and its output folder, made before the
 /// body is reduced (unless `full`), so that a bad path fails first.
-fn vehicle(model: &Path, out: &Path, full: bool) -> Result<(Vehicle, OutputFolder)> {
+fn vehicle(
+    model: &Path,
+    out: &Path,
+    full: bool,
+    progress: &dyn Progress,
+) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read(model)?;
     let folder = OutputFolder::make(out)?;
-    Ok((if full { v } else { v.reduced()? }, folder))
+    Ok((if full { v } else { v.reduced(progress)? }, folder))
 }
 
-fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full)?;
+fn run_simulate(model: &Path, out: &Path, full: bool, progress: &dyn Progress) -> Result<()> {
+    let (v, folder) = vehicle(model, out, full, progress)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
@@ -530,8 +546,8 @@ fn run_simulate(model: &Path, out: &Path, full: bool) -> Result<()> {
     Ok(())
 }
 
-fn run_frf(model: &Path, out: &Path, full: bool) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full)?;
+fn run_frf(model: &Path, out: &Path, full: bool, progress: &dyn Progress) -> Result<()> {
+    let (v, folder) = vehicle(model, out, full, progress)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;

@@ -8,8 +8,10 @@
 
 use crate::fem::{DofKind, Substructure, Support};
 use crate::input::Component;
+use crate::linalg::progress::Progress;
+use crate::linalg::solver::{eigen, Solver};
 use crate::linalg::{memory, ordering::Ordering, pencil::Pencil, LinalgError};
-use crate::reduce::modes::{eigenmodes, eigenmodes_owned, rigid_motion_count, Wanted, ZERO_GAP};
+use crate::reduce::modes::{eigenmodes_owned, rigid_motion_count, Wanted, ZERO_GAP};
 use crate::reduce::{ReduceError, ReducedBody};
 use crate::study::{fmt_omega, StudyResult};
 use std::fmt;
@@ -124,6 +126,7 @@ pub struct NaturalFrequencies {
 pub fn natural_frequencies(
     component: Component,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<NaturalFrequencies, ReduceError> {
     let dofs = component.sub.len();
     let band = match band {
@@ -140,7 +143,7 @@ pub fn natural_frequencies(
     };
     let matrices = component.into_matrices();
     crate::linalg::memory::release_free_memory();
-    let (modes, residuals) = eigenmodes_owned(matrices.stiffness, matrices.mass, band)?;
+    let (modes, residuals) = eigenmodes_owned(matrices.stiffness, matrices.mass, band, progress)?;
     Ok(NaturalFrequencies {
         dofs,
         frequencies_hz: modes.frequencies_hz(),
@@ -212,18 +215,14 @@ pub fn compare_frequencies(
     sub: &Substructure,
     body: &ReducedBody,
     compare: bool,
+    progress: &dyn Progress,
 ) -> Result<FrequencyComparison, ReduceError> {
     let reduced_hz = body.frequencies_hz()?;
     let full_hz = if compare {
         let count = body.r().min(sub.len());
-        Some(
-            eigenmodes(
-                &sub.matrices.stiffness,
-                &sub.matrices.mass,
-                Wanted::Lowest(count),
-            )?
-            .frequencies_hz(),
-        )
+        let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
+        let found = eigen(k, m, Wanted::Lowest(count), Solver::Auto, progress)?;
+        Some(found.pairs.frequencies_hz())
     } else {
         None
     };

@@ -5,9 +5,10 @@
 //! Ritz coordinates by eq. 25 with `q''`.
 
 use crate::fem::{Element, FemError, Substructure};
+use crate::linalg::progress::Progress;
 use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
-use crate::reduce::{reduce, ReduceError, ReducedBody};
+use crate::reduce::{reduce_reporting, ReduceError, ReducedBody};
 use crate::scenario::{BodySource, ModelFile, SimulationSpec};
 use std::path::Path;
 
@@ -104,12 +105,12 @@ impl Vehicle {
 
     /// The vehicle with the flexible body its `[simulation]` table names:
     /// reduced as it says, or read from a reduced-body file.
-    pub fn reduced(mut self) -> Result<Self, SimulationError> {
+    pub fn reduced(mut self, progress: &dyn Progress) -> Result<Self, SimulationError> {
         let spec =
             self.file.simulation.as_ref().ok_or_else(|| {
                 SimulationError::NoSimulation(self.file.path.display().to_string())
             })?;
-        self.body = Some(simulation_body(&self.file, &self.sub, spec)?);
+        self.body = Some(simulation_body(&self.file, &self.sub, spec, progress)?);
         Ok(self)
     }
 
@@ -168,11 +169,12 @@ pub fn simulation_body(
     file: &ModelFile,
     sub: &Substructure,
     spec: &SimulationSpec,
+    progress: &dyn Progress,
 ) -> Result<ReducedBody, SimulationError> {
     let body = match &spec.body {
         BodySource::Reduce { method, modes } => {
             let r = crate::input::file_reduction(file, *method, *modes, file.interface.clone());
-            reduce(sub, &r)?
+            reduce_reporting(sub, &r, progress)?
         }
         BodySource::File(path) => {
             let body = crate::export::read_json(path)?;

@@ -3,7 +3,7 @@
 //! otherwise. A factorisation shows the percent of its work done and the
 //! time left.
 
-use flexbody::linalg::progress::{Progress, Stage};
+use flexbody::linalg::progress::{NoProgress, Progress, Stage};
 use std::sync::Arc;
 
 /// One line describing a stage of the linear algebra, for the spinner and
@@ -167,20 +167,20 @@ fn resident_memory() -> String {
     })
 }
 
-/// Shows progress on a terminal (stderr) or, with `--verbose`, a log of
-/// stages; stays quiet otherwise.
-pub fn install(verbose: bool, start: std::time::Instant) {
+/// The progress display the library's solvers report to: a spinner on a
+/// terminal (stderr) or, with `--verbose`, a log of stages; nothing
+/// otherwise. Dropping it clears the spinner.
+pub fn install(verbose: bool, start: std::time::Instant) -> Arc<dyn Progress> {
     use std::io::IsTerminal;
     if verbose {
         let _ = VERBOSE_SINCE.set(start);
-        flexbody::linalg::progress::set_global(Some(Arc::new(StageLog(FactorClock::default()))));
+        Arc::new(StageLog(FactorClock::default()))
     } else if std::io::stderr().is_terminal() {
         let bar =
             indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
         bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        flexbody::linalg::progress::set_global(Some(Arc::new(Spinner(
-            bar,
-            FactorClock::default(),
-        ))));
+        Arc::new(Spinner(bar, FactorClock::default()))
+    } else {
+        Arc::new(NoProgress)
     }
 }

@@ -13,9 +13,10 @@
 
 use crate::fem::FemError;
 use crate::fem::{DofKind, Substructure};
+use crate::linalg::progress::Progress;
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError};
 use crate::recover::{harmonic_section_forces, nodal_values};
-use crate::reduce::{reduce, Method, ReduceError};
+use crate::reduce::{reduce_reporting, Method, ReduceError};
 use crate::scenario::{CaseSpec, ModelFile, StudySpec};
 use serde::Serialize;
 
@@ -217,16 +218,20 @@ pub enum ResponseError {
 }
 
 /// Runs the study of `file` (its `[study]` table).
-pub fn run_study(file: &ModelFile) -> Result<StudyResult, StudyError> {
+pub fn run_study(file: &ModelFile, progress: &dyn Progress) -> Result<StudyResult, StudyError> {
     let spec = file
         .study
         .as_ref()
         .ok_or_else(|| StudyError::NoStudy(file.path.display().to_string()))?;
-    run_cases(file, spec)
+    run_cases(file, spec, progress)
 }
 
 /// Runs the given cases of a study on `file`.
-pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, StudyError> {
+pub fn run_cases(
+    file: &ModelFile,
+    spec: &StudySpec,
+    progress: &dyn Progress,
+) -> Result<StudyResult, StudyError> {
     let sub =
         Substructure::from_model(&file.model).map_err(|e| StudyError::Reference(e.to_string()))?;
     let full = FlexibleBody::Full {
@@ -244,7 +249,7 @@ pub fn run_cases(file: &ModelFile, spec: &StudySpec) -> Result<StudyResult, Stud
         .collect::<Result<Vec<_>, _>>()?;
     let mut cases = Vec::new();
     for case in &spec.cases {
-        let body = reduce_case(file, &sub, case)?;
+        let body = reduce_case(file, &sub, case, progress)?;
         for (omega, reference) in &references {
             let reduced = respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| {
                 StudyError::Case {
@@ -283,11 +288,12 @@ pub fn reduce_case(
     file: &ModelFile,
     sub: &Substructure,
     case: &CaseSpec,
+    progress: &dyn Progress,
 ) -> Result<crate::reduce::ReducedBody, StudyError> {
     let mut spec =
         crate::input::file_reduction(file, case.method, case.modes, file.interface.clone());
     spec.max_frequency_hz = case.fmax;
-    reduce(sub, &spec).map_err(|source| StudyError::Reduce {
+    reduce_reporting(sub, &spec, progress).map_err(|source| StudyError::Reduce {
         method: case.method,
         modes: case.modes,
         source,

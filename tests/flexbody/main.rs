@@ -54,6 +54,7 @@ pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure,
             modes,
             fmax: None,
         },
+        &flexbody::linalg::progress::NoProgress,
     )
     .unwrap();
     (file, sub, body)

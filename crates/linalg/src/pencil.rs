@@ -245,16 +245,22 @@ impl Pencil {
 
     /// Factorises `K - sigma M`. An exactly zero pivot (a shift on an
     /// eigenvalue, or a singular `K` at `sigma = 0`) is an error naming the
-    /// row in the original order.
-    pub fn factorize(&self, sigma: f64) -> Result<Factor, LinalgError> {
-        self.refactorize(sigma, Vec::new())
+    /// row in the original order. The factorisation's progress goes to
+    /// `progress` (the caller reports its start and end).
+    pub fn factorize(&self, sigma: f64, progress: &dyn Progress) -> Result<Factor, LinalgError> {
+        self.refactorize(sigma, Vec::new(), progress)
     }
 
     /// [`Self::factorize`] into the storage of a factor that is no longer
     /// needed (the factor of a previous shift): the Sturm check of a large
     /// model then holds one factor in memory, not two.
-    pub fn refactorize(&self, sigma: f64, values: Vec<f64>) -> Result<Factor, LinalgError> {
-        self.factorize_values(sigma, None, values)
+    pub fn refactorize(
+        &self,
+        sigma: f64,
+        values: Vec<f64>,
+        progress: &dyn Progress,
+    ) -> Result<Factor, LinalgError> {
+        self.factorize_values(sigma, None, values, progress)
     }
 
     /// The `LDL^T` of `K` for static modes, with the equations `fixed` (may
@@ -282,7 +288,7 @@ impl Pencil {
             }
             mask
         });
-        let mut f = self.factorize_values(0.0, mask.as_deref(), Vec::new())?;
+        let mut f = self.factorize_values(0.0, mask.as_deref(), Vec::new(), progress)?;
         if let Some(row) = f.tiny_pivot {
             return Err(LinalgError::Singular {
                 index: row,
@@ -303,6 +309,7 @@ impl Pencil {
         sigma: f64,
         fixed: Option<&[bool]>,
         values: Vec<f64>,
+        progress: &dyn Progress,
     ) -> Result<Factor, LinalgError> {
         // No storage given: the one touched during the analysis, if unused.
         let (mut values, resident) = match values.capacity() {
@@ -323,7 +330,7 @@ impl Pencil {
         };
         let result = self
             .symbolic
-            .factorize_input_into(input, &mut values, resident);
+            .factorize_input_into(input, &mut values, resident, progress);
         if let Err(LinalgError::Singular { index, .. }) = result {
             return Err(LinalgError::Singular {
                 index: self.symbolic.forward()[index],
@@ -401,6 +408,7 @@ impl Factor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::progress::NoProgress;
     use crate::sparse::from_triplets;
     use faer::sparse::Triplet;
     use faer::Mat;
@@ -467,8 +475,8 @@ mod tests {
             )
             .unwrap();
             let (f, g) = (
-                within.factorize(1.05).unwrap(),
-                whole.factorize(1.05).unwrap(),
+                within.factorize(1.05, &NoProgress).unwrap(),
+                whole.factorize(1.05, &NoProgress).unwrap(),
             );
             assert_eq!(f.inertia(), g.inertia(), "{ordering:?}");
             let (mut x, mut y) = (b.clone(), b.clone());
@@ -541,7 +549,7 @@ mod tests {
         assert!(pencil.symbolic.supernodes().is_some());
         let b = Mat::from_fn(n, 3, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
         let sigma = 40.0;
-        let f = pencil.factorize(sigma).unwrap();
+        let f = pencil.factorize(sigma, &NoProgress).unwrap();
         let mut x = b.clone();
         f.solve_in_place(x.as_mut());
         let a = crate::sparse::add_scaled(&k, -sigma, &m).unwrap();
@@ -579,7 +587,7 @@ mod tests {
             let pencil =
                 Pencil::analyze(&k, &m, None, ordering, &crate::progress::NoProgress).unwrap();
             let sigma = 1.05;
-            let f = pencil.factorize(sigma).unwrap();
+            let f = pencil.factorize(sigma, &NoProgress).unwrap();
             let below = (1..=n)
                 .filter(|k| {
                     let th = ((2 * k - 1) as f64) * std::f64::consts::PI / (2 * n + 1) as f64;

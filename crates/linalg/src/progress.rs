@@ -3,12 +3,9 @@
 //! large model is. The kernels call [`Progress::report`]; the default does
 //! nothing.
 //!
-//! Kernels take a `&dyn Progress` argument. Callers deep inside a pipeline
-//! (a reduction method calling the eigen solver) use the process-wide hook of
-//! [`set_global`] / [`global`] instead, so that the CLI can install an
-//! indicatif bar once.
-
-use std::sync::{Arc, RwLock};
+//! Kernels take a `&dyn Progress` argument, handed down from the caller
+//! that owns the display (the CLI's terminal bar or stage log); there is no
+//! process-wide hook.
 
 /// A stage of a long computation.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,22 +79,3 @@ pub trait Progress: Send + Sync {
 pub struct NoProgress;
 
 impl Progress for NoProgress {}
-
-static GLOBAL: RwLock<Option<Arc<dyn Progress>>> = RwLock::new(None);
-
-/// Installs the process-wide hook (e.g. a terminal progress bar); `None`
-/// removes it.
-pub fn set_global(hook: Option<Arc<dyn Progress>>) {
-    if let Ok(mut g) = GLOBAL.write() {
-        *g = hook;
-    }
-}
-
-/// The process-wide hook, or [`NoProgress`].
-pub fn global() -> Arc<dyn Progress> {
-    GLOBAL
-        .read()
-        .ok()
-        .and_then(|g| g.clone())
-        .unwrap_or_else(|| Arc::new(NoProgress))
-}

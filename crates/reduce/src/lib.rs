@@ -19,7 +19,9 @@ mod products;
 
 pub use body::{natural_frequencies_hz, ModeKind, ReducedBody};
 pub use error::ReduceError;
-pub use method::{reduce, reduce_keeping, ForceGroup, GroundSpring, Keep, Method, Reduction};
+pub use method::{
+    reduce, reduce_keeping, reduce_reporting, ForceGroup, GroundSpring, Keep, Method, Reduction,
+};
 
 #[cfg(test)]
 mod tests;

@@ -29,6 +29,7 @@ use faer::sparse::Triplet;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind, FemError, Substructure, Support};
 use flexbody_linalg::eigen::leading_zeros;
+use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -147,20 +148,30 @@ impl Reduction {
     }
 }
 
-/// Reduces the substructure `sub` as `spec` says. `sub` is left as it was;
-/// [`reduce_keeping`] with [`Keep::Both`] gives the same body.
+/// Reduces the substructure `sub` as `spec` says, unreported. `sub` is
+/// left as it was; [`reduce_keeping`] with [`Keep::Both`] gives the same
+/// body.
 pub fn reduce(sub: &Substructure, spec: &Reduction) -> Result<ReducedBody, ReduceError> {
+    reduce_reporting(sub, spec, &NoProgress)
+}
+
+/// [`reduce`], the stages of its solves going to `progress`.
+pub fn reduce_reporting(
+    sub: &Substructure,
+    spec: &Reduction,
+    progress: &dyn Progress,
+) -> Result<ReducedBody, ReduceError> {
     let checked = check(sub, spec)?;
     let matrices = Matrices::lent(&sub.matrices.stiffness, &sub.matrices.mass);
-    reduce_from(sub, matrices, checked, spec)
+    reduce_from(sub, matrices, checked, spec, progress)
 }
 
 /// Which of `sub`'s stiffness and mass a caller of [`reduce_keeping`]
 /// needs after the reduction. What it does not need is taken out of `sub`
 /// (a 0 x 0 matrix takes its place, also after an error) and dropped as
 /// soon as the solver of a large model holds its compact copy, so that the
-/// factorisations and the Lanczos run find its memory free. The dense paths
-/// of small models, and `elastic-residual`, hold the matrices to the end.
+/// factorisations and the Lanczos run find its memory free. Small models,
+/// whose eigen solve is the dense one, hold the matrices to the end.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub enum Keep {
     /// Stiffness and mass stay in `sub` (as [`reduce`] leaves them).
@@ -176,13 +187,15 @@ pub enum Keep {
 /// afterwards only as far as `keep` says. The body is [`reduce`]'s bit for
 /// bit for every choice: on the sparse paths the products after the modes
 /// come from the solver's copy whether the matrices were lent or taken.
+/// The stages of the solves go to `progress`.
 pub fn reduce_keeping(
     sub: &mut Substructure,
     spec: &Reduction,
     keep: Keep,
+    progress: &dyn Progress,
 ) -> Result<ReducedBody, ReduceError> {
     if keep == Keep::Both {
-        return reduce(sub, spec);
+        return reduce_reporting(sub, spec, progress);
     }
     let checked = check(sub, spec);
     let k = take(&mut sub.matrices.stiffness)?;
@@ -190,7 +203,7 @@ pub fn reduce_keeping(
         Keep::Mass => Matrices::stiffness_given(k, &sub.matrices.mass),
         _ => Matrices::given(k, take(&mut sub.matrices.mass)?),
     };
-    reduce_from(sub, matrices, checked?, spec)
+    reduce_from(sub, matrices, checked?, spec, progress)
 }
 
 /// Takes `a` out, leaving a 0 x 0 matrix.
@@ -275,6 +288,7 @@ fn reduce_from(
         others,
     }: Checked,
     spec: &Reduction,
+    progress: &dyn Progress,
 ) -> Result<ReducedBody, ReduceError> {
     let map = &sub.dof_map;
     // The eigenmodes each method takes: a count, or the band below fmax
@@ -295,7 +309,7 @@ fn reduce_from(
                 Wanted::Lowest(count) => Wanted::Lowest(count.max(nr + 1).min(n)),
                 within => within,
             };
-            let (mut phi, _, products) = eigenmodes_from(matrices, wanted)?;
+            let (mut phi, _, products) = eigenmodes_from(matrices, wanted, progress)?;
             if phi.values.is_empty() {
                 return Err(ReduceError::NoModes);
             }
@@ -324,7 +338,7 @@ fn reduce_from(
                 _ => band(0),
             };
             let (psi, phi, products) =
-                craig_bampton_modes_from(matrices, &boundary, map, &rigid, band)?;
+                craig_bampton_modes_from(matrices, &boundary, map, &rigid, band, progress)?;
             let mut kinds: Vec<ModeKind> = boundary
                 .iter()
                 .map(|&i| ModeKind::Constraint { dof: map.dof(i) })
@@ -340,8 +354,15 @@ fn reduce_from(
             // stay out, and e counts the eigenmodes beyond them, as for
             // free-residual.
             let free = free_rigid_motions(&springs, &rigid)?;
-            let (psi, all, products) =
-                elastic_residual_modes_from(matrices, springs, &boundary, map, &rigid, band(free))?;
+            let (psi, all, products) = elastic_residual_modes_from(
+                matrices,
+                springs,
+                &boundary,
+                map,
+                &rigid,
+                band(free),
+                progress,
+            )?;
             if free > 0 {
                 check_zeros(&all.values, free, sub.len(), |c| {
                     products.lowest_eigenvalues(c)
@@ -379,6 +400,7 @@ fn reduce_from(
                 &support,
                 map,
                 band(nr),
+                progress,
             )?;
             check_zeros(&all.values, nr, sub.len(), |c| {
                 products.lowest_eigenvalues(c)

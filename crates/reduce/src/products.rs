@@ -16,6 +16,7 @@ use crate::modes::eigen::{eigenmodes, eigenmodes_on, Wanted};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_linalg::pencil::Pencil;
+use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, SparseMat};
 
@@ -195,7 +196,7 @@ impl<'a> Products<'a> {
             }
             Products::Pencil(pencil) => {
                 let request = EigenRequest::new(Wanted::Lowest(count));
-                Ok(eigenmodes_on(pencil, None, &request)?.values)
+                Ok(eigenmodes_on(pencil, None, &request, &NoProgress)?.values)
             }
             Products::Bordered(_) | Products::Sprung(_) => Ok(Vec::new()),
         }

@@ -308,10 +308,18 @@ fn soft_springs_give_the_constraint_modes_by_refinement() {
         &flexbody_linalg::progress::NoProgress,
     )
     .unwrap();
-    let factor = pencil.factorize(0.0).unwrap();
+    let factor = pencil
+        .factorize(0.0, &flexbody_linalg::progress::NoProgress)
+        .unwrap();
     let interior: Vec<usize> = (0..map.len()).filter(|i| !h.contains(i)).collect();
-    let psi = constraint_modes_by_flexibility(&pencil, &factor, &h, &interior)
-        .expect("the refinements reach round-off");
+    let psi = constraint_modes_by_flexibility(
+        &pencil,
+        &factor,
+        &h,
+        &interior,
+        &flexbody_linalg::progress::NoProgress,
+    )
+    .expect("the refinements reach round-off");
     let want = constraint_modes(&s.stiffness, &h, map, &rigid).unwrap();
     let err = max_abs((&psi - &want).as_ref()) / max_abs(want.as_ref());
     assert!(err < 1e-12, "{err:e}");

@@ -106,9 +106,11 @@ impl<'p> Operator<'p> {
                     .factorize_static(h.held.support, self.progress)?,
                 None => {
                     self.progress.report(&Stage::Factorization { shift: sigma });
-                    let f = self
-                        .pencil
-                        .refactorize(sigma, std::mem::take(&mut self.spare))?;
+                    let f = self.pencil.refactorize(
+                        sigma,
+                        std::mem::take(&mut self.spare),
+                        self.progress,
+                    )?;
                     self.progress.report(&Stage::Factorized {
                         shift: sigma,
                         seconds: t.elapsed().as_secs_f64(),
@@ -211,7 +213,7 @@ impl<'p> Operator<'p> {
         let mut s = bound;
         for _ in 0..3 {
             self.progress.report(&Stage::Factorization { shift: s });
-            match self.pencil.refactorize(s, storage) {
+            match self.pencil.refactorize(s, storage, self.progress) {
                 Ok(f) => {
                     self.progress.report(&Stage::Factorized {
                         shift: s,

@@ -17,7 +17,7 @@ pub(crate) mod solve;
 pub(crate) mod symbolic;
 
 use crate::ordering::{nested_dissection, Dissection, Ordering};
-use crate::progress::Stage;
+use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -275,8 +275,7 @@ impl SymbolicLdlt {
         self.ensure_room(values.len())?;
         match &*self.inner {
             Analysis::Supernodal(s) => {
-                let report = reported_globally(s);
-                self.factorize_supernodal(s, Input::Faer(a), values, Panels::DEFAULT, &report)
+                self.factorize_supernodal(s, Input::Faer(a), values, Panels::DEFAULT, &|_| {})
             }
             Analysis::Simplicial(sym) => self.factorize_simplicial(sym, a, values),
         }
@@ -292,11 +291,12 @@ impl SymbolicLdlt {
         input: Input<'_>,
         values: &mut Vec<f64>,
         resident: usize,
+        progress: &dyn Progress,
     ) -> Result<(), LinalgError> {
         self.ensure_room(resident)?;
         match &*self.inner {
             Analysis::Supernodal(s) => {
-                let report = reported_globally(s);
+                let report = reported_to(s, progress);
                 self.factorize_supernodal(s, input, values, Panels::DEFAULT, &report)
             }
             Analysis::Simplicial(sym) => {
@@ -473,12 +473,10 @@ pub(crate) fn faer_analysis(
         .map_err(|e| LinalgError::Faer(format!("{e:?}")))
 }
 
-/// The `Factoring` reports of a supernodal factorisation, to the
-/// process-wide [`crate::progress::global`] hook.
-fn reported_globally(s: &Supernodal) -> impl Fn(f64) + Sync {
-    let hook = crate::progress::global();
+/// The `Factoring` reports of a supernodal factorisation, to `progress`.
+fn reported_to<'a>(s: &Supernodal, progress: &'a dyn Progress) -> impl Fn(f64) + Sync + 'a {
     let flops = s.supernodes.flops();
-    move |done| hook.report(&Stage::Factoring { done, flops })
+    move |done| progress.report(&Stage::Factoring { done, flops })
 }
 
 /// Counts of negative, zero and positive pivots: by Sylvester's law of inertia
@@ -504,29 +502,12 @@ pub struct Ldlt {
 
 impl Ldlt {
     /// Analyses and factorises `a` with default parameters; fails with
-    /// [`LinalgError::Singular`] if a pivot vanishes. The stages go to the
-    /// process-wide [`crate::progress::global`] hook (as a factorisation at
-    /// shift 0).
+    /// [`LinalgError::Singular`] if a pivot vanishes. Unreported: the
+    /// factorisations of large models, which a user waits for, are the
+    /// pencil's ([`crate::pencil::Pencil`]).
     pub fn factorize(a: &SparseMat) -> Result<Self, LinalgError> {
-        let progress = crate::progress::global();
-        let t = std::time::Instant::now();
-        progress.report(&Stage::Ordering {
-            equations: a.nrows(),
-        });
         let symbolic = SymbolicLdlt::analyze(a)?;
-        progress.report(&Stage::Analyzed {
-            factor_len: symbolic.factor_len(),
-            flops: symbolic.factor_flops(),
-            seconds: t.elapsed().as_secs_f64(),
-        });
-        let t = std::time::Instant::now();
-        progress.report(&Stage::Factorization { shift: 0.0 });
-        let f = Self::factorize_with(&symbolic, a, LdltParams::default())?;
-        progress.report(&Stage::Factorized {
-            shift: 0.0,
-            seconds: t.elapsed().as_secs_f64(),
-        });
-        Ok(f)
+        Self::factorize_with(&symbolic, a, LdltParams::default())
     }
 
     /// Factorises `a`, whose pattern `symbolic` was computed from.
@@ -622,9 +603,6 @@ impl Ldlt {
 
     /// Solves `A X = B` for a block of right-hand sides.
     pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
-        crate::progress::global().report(&Stage::Solves {
-            columns: rhs.ncols(),
-        });
         let mut x = rhs.to_owned();
         self.solve_in_place(&mut x);
         x

@@ -6,7 +6,7 @@ use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
-use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// What a singular `K` of a supported body is called in errors.
@@ -26,9 +26,9 @@ pub fn attachment_modes(
     dof_map: &DofMap,
 ) -> Result<Mat<f64>, ReduceError> {
     let no_mass = sparse::from_triplets(stiffness.nrows(), stiffness.nrows(), &[])?;
-    let hook = progress::global();
-    let pencil = Pencil::analyze(stiffness, &no_mass, None, Ordering::Auto, &*hook)?;
-    Ok(attachment_modes_on(&pencil, loads, dof_map)?.0)
+    let hook: &dyn Progress = &NoProgress;
+    let pencil = Pencil::analyze(stiffness, &no_mass, None, Ordering::Auto, hook)?;
+    Ok(attachment_modes_on(&pencil, loads, dof_map, hook)?.0)
 }
 
 /// [`attachment_modes`] on the factor of `K` from `pencil`, returned with
@@ -37,16 +37,18 @@ pub(crate) fn attachment_modes_on(
     pencil: &Pencil,
     loads: &Mat<f64>,
     dof_map: &DofMap,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, Factor), ReduceError> {
-    let hook = progress::global();
-    let factor = pencil.factorize_static(&[], &*hook).map_err(|e| match e {
-        LinalgError::Singular { index, .. } => ReduceError::Singular {
-            what: SUPPORTED_BODY,
-            dof: dof_map.dof(index),
-        },
-        other => other.into(),
-    })?;
-    hook.report(&Stage::Solves {
+    let factor = pencil
+        .factorize_static(&[], progress)
+        .map_err(|e| match e {
+            LinalgError::Singular { index, .. } => ReduceError::Singular {
+                what: SUPPORTED_BODY,
+                dof: dof_map.dof(index),
+            },
+            other => other.into(),
+        })?;
+    progress.report(&Stage::Solves {
         columns: loads.ncols(),
     });
     let mut t_a = loads.clone();

@@ -14,6 +14,7 @@ use crate::products::Matrices;
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
+use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::{LinalgError, SparseMat};
 
 /// Constraint modes `T_stat,c` (m x s), one per boundary equation in
@@ -30,8 +31,14 @@ pub fn constraint_modes(
     let n = stiffness.nrows();
     let no_mass = flexbody_linalg::sparse::from_triplets(n, n, &[])?;
     let matrices = Matrices::lent(stiffness, &no_mass);
-    let (psi, _, _) =
-        craig_bampton_modes_from(matrices, boundary, dof_map, rigid, Wanted::Lowest(0))?;
+    let (psi, _, _) = craig_bampton_modes_from(
+        matrices,
+        boundary,
+        dof_map,
+        rigid,
+        Wanted::Lowest(0),
+        &NoProgress,
+    )?;
     Ok(psi)
 }
 

@@ -5,14 +5,15 @@
 //! shift-invert Lanczos for large ones). A count beyond the modes the model
 //! has is [`ReduceError::NotEnoughModes`].
 //!
-//! The sparse solver reports its stages to the process-wide
-//! [`flexbody_linalg::progress::global`] hook.
+//! The solvers report their stages to the `progress` hook a caller hands
+//! in ([`eigenmodes`] and [`eigenmodes_with`] report nothing).
 
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use flexbody_linalg::lanczos::SparseEigen;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
+use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::solver::{eigen, EigenRequest};
 use flexbody_linalg::SparseMat;
 
@@ -48,8 +49,9 @@ pub fn eigenmodes_owned(
     stiffness: SparseMat,
     mass: SparseMat,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<(EigenModes, Vec<f64>), ReduceError> {
-    let (modes, residuals, _) = eigenmodes_from(Matrices::given(stiffness, mass), band)?;
+    let (modes, residuals, _) = eigenmodes_from(Matrices::given(stiffness, mass), band, progress)?;
     Ok((modes, residuals))
 }
 
@@ -59,12 +61,12 @@ pub fn eigenmodes_owned(
 pub(crate) fn eigenmodes_from<'a>(
     matrices: Matrices<'a>,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<(EigenModes, Vec<f64>, Products<'a>), ReduceError> {
     available(band, matrices.k().nrows())?;
-    let progress = flexbody_linalg::progress::global();
-    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, &*progress)?;
+    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, progress)?;
     let full = matrices.kept_if_small(pencil.dim(), band);
-    let found = solve_on(&pencil, None, &EigenRequest::new(band))?;
+    let found = solve_on(&pencil, None, &EigenRequest::new(band), progress)?;
     let products = Products::full_or(full, Products::Pencil(pencil));
     Ok((found.pairs, found.residuals, products))
 }
@@ -77,8 +79,8 @@ pub fn eigenmodes_with(
     solver: Solver,
 ) -> Result<EigenModes, ReduceError> {
     available(wanted, stiffness.nrows())?;
-    let progress = flexbody_linalg::progress::global();
-    let found = eigen(stiffness, mass, wanted, solver, &*progress)?;
+    let progress: &dyn Progress = &NoProgress;
+    let found = eigen(stiffness, mass, wanted, solver, progress)?;
     available(wanted, found.pairs.values.len())?;
     Ok(found.pairs)
 }
@@ -108,8 +110,9 @@ pub fn eigenmodes_on(
     pencil: &Pencil,
     factor: Option<Factor>,
     request: &EigenRequest<'_>,
+    progress: &dyn Progress,
 ) -> Result<EigenModes, ReduceError> {
-    Ok(solve_on(pencil, factor, request)?.pairs)
+    Ok(solve_on(pencil, factor, request, progress)?.pairs)
 }
 
 /// The solve of [`eigenmodes_on`] with its residuals; fewer modes than a
@@ -118,10 +121,10 @@ fn solve_on(
     pencil: &Pencil,
     factor: Option<Factor>,
     request: &EigenRequest<'_>,
+    progress: &dyn Progress,
 ) -> Result<SparseEigen, ReduceError> {
     available(request.wanted, pencil.dim())?;
-    let progress = flexbody_linalg::progress::global();
-    let found = pencil.eigen(factor, request, &*progress)?;
+    let found = pencil.eigen(factor, request, progress)?;
     available(request.wanted, found.pairs.values.len())?;
     Ok(found)
 }

@@ -33,7 +33,7 @@ use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
-use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::solver::{EigenRequest, Solver};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
@@ -49,8 +49,15 @@ pub fn elastic_residual_modes(
     band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
-    let (psi, phi, _) =
-        elastic_residual_modes_from(matrices, springs.clone(), boundary, dof_map, rigid, band)?;
+    let (psi, phi, _) = elastic_residual_modes_from(
+        matrices,
+        springs.clone(),
+        boundary,
+        dof_map,
+        rigid,
+        band,
+        &NoProgress,
+    )?;
     Ok((psi, phi))
 }
 
@@ -64,33 +71,34 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     dof_map: &DofMap,
     rigid: &RigidModes,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
-    let hook = progress::global();
     if !on_equations(&springs, boundary) {
         // Springs off the interface: the constraint modes of K on their
         // own factorisation, the eigenmodes on the pencil of K + C.
         let psi = constraint_modes(matrices.k(), boundary, dof_map, rigid)?;
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        let pencil = Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, &*hook)?;
+        let pencil = Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, progress)?;
         drop(supported);
         let full = matrices.kept_if_small(n, band);
-        let phi = eigenmodes_on(&pencil, None, &EigenRequest::new(band))?;
+        let phi = eigenmodes_on(&pencil, None, &EigenRequest::new(band), progress)?;
         let sprung = Products::Sprung(Box::new(Sprung { pencil, springs }));
         return Ok((psi, phi, Products::full_or(full, sprung)));
     }
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let pencil = {
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, &*hook)?
+        Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, progress)?
     };
     let full = matrices.kept_if_small(n, band);
     let sprung = Sprung { pencil, springs };
     let pencil = &sprung.pencil;
     if band == Wanted::Lowest(0) {
         // The constraint modes alone: K_NN is the one factorisation.
-        let (psi, _) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
+        let (psi, _) =
+            held_constraint_modes(pencil, boundary, &interior, dof_map, rigid, progress)?;
         let phi = EigenModes {
             vectors: Mat::zeros(n, 0),
             values: vec![],
@@ -106,28 +114,37 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     // gives them directly.
     let shared = !Solver::Auto.is_dense(n, band);
     let regular = if shared && supports_rigid_motion(&sprung.springs, rigid)? {
-        regular_factor(pencil.factorize_static(&[], &*hook))?
+        regular_factor(pencil.factorize_static(&[], progress))?
     } else {
         None
     };
     let (psi, phi) = match regular {
         Some(factor) => {
-            let psi = constraint_modes_by_flexibility(pencil, &factor, boundary, &interior);
-            let phi = eigenmodes_on(pencil, Some(factor), &EigenRequest::new(band).shift(0.0))?;
+            let psi =
+                constraint_modes_by_flexibility(pencil, &factor, boundary, &interior, progress);
+            let phi = eigenmodes_on(
+                pencil,
+                Some(factor),
+                &EigenRequest::new(band).shift(0.0),
+                progress,
+            )?;
             let psi = match psi {
                 Some(psi) => psi,
                 // Springs so soft that the flexibility lost the interior
                 // to round-off: K_NN after all.
-                None => held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?.0,
+                None => {
+                    held_constraint_modes(pencil, boundary, &interior, dof_map, rigid, progress)?.0
+                }
             };
             (psi, phi)
         }
         None => {
-            let (psi, held) = held_constraint_modes(pencil, boundary, &interior, dof_map, rigid)?;
+            let (psi, held) =
+                held_constraint_modes(pencil, boundary, &interior, dof_map, rigid, progress)?;
             // The held factor lends its storage to the shifted one.
             (
                 psi,
-                eigenmodes_on(pencil, Some(held), &EigenRequest::new(band))?,
+                eigenmodes_on(pencil, Some(held), &EigenRequest::new(band), progress)?,
             )
         }
     };
@@ -149,11 +166,11 @@ pub(crate) fn constraint_modes_by_flexibility(
     factor: &Factor,
     boundary: &[usize],
     interior: &[usize],
+    progress: &dyn Progress,
 ) -> Option<Mat<f64>> {
     let (n, s) = (pencil.dim(), boundary.len());
-    let hook = progress::global();
     let solve = |mut x: Mat<f64>| {
-        hook.report(&Stage::Solves { columns: s });
+        progress.report(&Stage::Solves { columns: s });
         factor.solve_in_place(x.as_mut());
         x
     };
@@ -222,11 +239,11 @@ fn held_constraint_modes(
     interior: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, Factor), ReduceError> {
     let (n, s) = (pencil.dim(), boundary.len());
-    let hook = progress::global();
     let held = pencil
-        .factorize_static(boundary, &*hook)
+        .factorize_static(boundary, progress)
         .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |i| i))?;
     // -K_NH: the interface columns of K + C, interior rows.
     let mut rhs = pencil.mul_stiffness(unit_loads(n, boundary).as_ref());
@@ -238,7 +255,7 @@ fn held_constraint_modes(
             rhs[(i, j)] = -rhs[(i, j)];
         }
     }
-    hook.report(&Stage::Solves { columns: s });
+    progress.report(&Stage::Solves { columns: s });
     held.solve_in_place(rhs.as_mut());
     let u_n = Mat::from_fn(interior.len(), s, |k, j| rhs[(interior[k], j)]);
     Ok((constraint_columns(n, boundary, interior, &u_n), held))

@@ -19,7 +19,7 @@ use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::Pencil;
-use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
 
@@ -34,7 +34,8 @@ pub fn craig_bampton_modes(
     band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
-    let (psi, phi, _) = craig_bampton_modes_from(matrices, boundary, dof_map, rigid, band)?;
+    let (psi, phi, _) =
+        craig_bampton_modes_from(matrices, boundary, dof_map, rigid, band, &NoProgress)?;
     Ok((psi, phi))
 }
 
@@ -47,17 +48,17 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     dof_map: &DofMap,
     rigid: &RigidModes,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
     mechanism_check(boundary, &interior, dof_map, rigid)?;
-    let hook = progress::global();
     let pencil = Pencil::analyze(
         matrices.k(),
         matrices.m(),
         Some(&interior),
         Ordering::Auto,
-        &*hook,
+        progress,
     )?;
     let bordered = Bordered::new(
         pencil,
@@ -70,10 +71,10 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     let pencil = &bordered.pencil;
     let interior = &bordered.interior;
     let k_factor = pencil
-        .factorize_static(&[], &*hook)
+        .factorize_static(&[], progress)
         .map_err(|e| mechanism_error(e, boundary, dof_map, rigid, |k| interior[k]))?;
     let mut u_n = -bordered.k_nb.to_dense();
-    hook.report(&Stage::Solves {
+    progress.report(&Stage::Solves {
         columns: boundary.len(),
     });
     k_factor.solve_in_place(u_n.as_mut());
@@ -85,7 +86,12 @@ pub(crate) fn craig_bampton_modes_from<'a>(
             values: vec![],
         }
     } else {
-        let found = eigenmodes_on(pencil, Some(k_factor), &EigenRequest::new(band).shift(0.0))?;
+        let found = eigenmodes_on(
+            pencil,
+            Some(k_factor),
+            &EigenRequest::new(band).shift(0.0),
+            progress,
+        )?;
         EigenModes {
             vectors: expand(&found.vectors, interior, n),
             values: found.values,

@@ -26,7 +26,7 @@ use flexbody_fem::DofMap;
 use flexbody_linalg::lanczos::Held;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::Pencil;
-use flexbody_linalg::progress;
+use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
 
@@ -43,8 +43,15 @@ pub fn inertia_relief_and_free_modes(
     band: Wanted,
 ) -> Result<(Mat<f64>, EigenModes), ReduceError> {
     let matrices = Matrices::lent(stiffness, mass);
-    let (t_a, all, _) =
-        inertia_relief_and_free_modes_from(matrices, rigid, loads, support, dof_map, band)?;
+    let (t_a, all, _) = inertia_relief_and_free_modes_from(
+        matrices,
+        rigid,
+        loads,
+        support,
+        dof_map,
+        band,
+        &NoProgress,
+    )?;
     Ok((t_a, all))
 }
 
@@ -58,6 +65,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     support: &[usize],
     dof_map: &DofMap,
     band: Wanted,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let (n, nr) = (matrices.k().nrows(), rigid.count());
     let at_least = |band: Wanted| match band {
@@ -67,21 +75,26 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     if nr > 0 {
         check_support(rigid, support, dof_map)?;
     }
-    let hook = progress::global();
-    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, &*hook)?;
+    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, progress)?;
     let full = matrices.kept_if_small(n, at_least(band));
     if nr == 0 {
         // A supported body: K is regular, the attachment modes are K^-1 P
         // (eq. 18), and K's factor is the Lanczos operator at shift 0.
-        let (t_a, factor) = attachment_modes_on(&pencil, loads, dof_map)?;
+        let (t_a, factor) = attachment_modes_on(&pencil, loads, dof_map, progress)?;
         let request = EigenRequest::new(at_least(band)).shift(0.0);
-        let all = eigenmodes_on(&pencil, Some(factor), &request)?;
+        let all = eigenmodes_on(&pencil, Some(factor), &request, progress)?;
         return Ok((t_a, all, Products::full_or(full, Products::Pencil(pencil))));
     }
-    let (t_a, held) =
-        inertia_relief_on(&pencil, rigid, loads, support, dof_map).map_err(|e| match e {
+    let (t_a, held) = inertia_relief_on(&pencil, rigid, loads, support, dof_map, progress)
+        .map_err(|e| match e {
             held @ ReduceError::Singular { .. } => mechanism_or(held, nr, n, |c| {
-                Ok(eigenmodes_on(&pencil, None, &EigenRequest::new(Wanted::Lowest(c)))?.values)
+                Ok(eigenmodes_on(
+                    &pencil,
+                    None,
+                    &EigenRequest::new(Wanted::Lowest(c)),
+                    progress,
+                )?
+                .values)
             }),
             other => other,
         })?;
@@ -90,11 +103,11 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
         rigid: rigid.vectors.as_ref(),
     };
     let request = EigenRequest::new(at_least(band)).held(held_at);
-    let mut all = eigenmodes_on(&pencil, Some(held), &request)?;
+    let mut all = eigenmodes_on(&pencil, Some(held), &request, progress)?;
     if all.values.len() <= nr && all.values.len() < n {
         // A band without elastic modes: the gap check needs one.
         let one_more = EigenRequest::new(Wanted::Lowest(nr + 1));
-        all = eigenmodes_on(&pencil, None, &one_more)?.slice(0, nr);
+        all = eigenmodes_on(&pencil, None, &one_more, progress)?.slice(0, nr);
     }
     Ok((t_a, all, Products::full_or(full, Products::Pencil(pencil))))
 }

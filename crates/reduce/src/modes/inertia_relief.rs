@@ -15,7 +15,7 @@ use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
-use flexbody_linalg::progress::{self, Stage};
+use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
@@ -129,9 +129,9 @@ pub fn inertia_relief_attachment_modes(
         return attachment_modes(stiffness, loads, dof_map);
     }
     check_support(rigid, support, dof_map)?;
-    let hook = progress::global();
-    let pencil = Pencil::analyze(stiffness, mass, None, Ordering::Auto, &*hook)?;
-    Ok(inertia_relief_on(&pencil, rigid, loads, support, dof_map)?.0)
+    let hook: &dyn Progress = &NoProgress;
+    let pencil = Pencil::analyze(stiffness, mass, None, Ordering::Auto, hook)?;
+    Ok(inertia_relief_on(&pencil, rigid, loads, support, dof_map, hook)?.0)
 }
 
 /// [`inertia_relief_attachment_modes`] on the pencil's factor of `K` held
@@ -144,10 +144,10 @@ pub(crate) fn inertia_relief_on(
     loads: &Mat<f64>,
     support: &[usize],
     dof_map: &DofMap,
+    progress: &dyn Progress,
 ) -> Result<(Mat<f64>, Factor), ReduceError> {
-    let hook = progress::global();
     let held = pencil
-        .factorize_static(support, &*hook)
+        .factorize_static(support, progress)
         .map_err(|e| match e {
             LinalgError::Singular { index, .. } => ReduceError::Singular {
                 what: SUPPORTED,
@@ -155,7 +155,7 @@ pub(crate) fn inertia_relief_on(
             },
             other => other.into(),
         })?;
-    hook.report(&Stage::Solves {
+    progress.report(&Stage::Solves {
         columns: loads.ncols(),
     });
     let t_a = relieved_modes(
