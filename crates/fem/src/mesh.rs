@@ -110,4 +110,35 @@ impl EveryElementType {
         }
         Ok(Self { nodes, elements })
     }
+
+    /// [`Self::new`] with the sections of [`sample_section`].
+    pub fn sample() -> Result<Self, FemError> {
+        Self::new(sample_section)
+    }
+}
+
+/// Section values for tests, by kind: steel (E = 210 GPa, nu = 0.3, rho =
+/// 7850 kg/m^3); beams a 50 mm wide, 80 mm high rectangle with local y
+/// along global y; masses of 12.5 kg; springs of 1e6 N/m on `uy` (as many
+/// DOFs as the kind names).
+pub fn sample_section(kind: SectionKind) -> SectionValues {
+    let material = Material::new(2.1e11, 0.3, 7850.0).expect("valid constants");
+    match kind {
+        SectionKind::Solid => SectionValues::Solid { material },
+        SectionKind::Beam => SectionValues::Beam {
+            material,
+            constants: crate::SectionShape::Rect {
+                width: 0.05,
+                height: 0.08,
+            }
+            .constants()
+            .expect("valid dimensions"),
+            orientation: [0.0, 1.0, 0.0],
+        },
+        SectionKind::Mass => SectionValues::Mass { mass: 12.5 },
+        SectionKind::Spring { dofs } => SectionValues::Spring {
+            dofs: [0, 1].map(|k| (k < dofs).then_some(crate::DofKind::Uy)),
+            stiffness: 1.0e6,
+        },
+    }
 }

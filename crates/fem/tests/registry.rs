@@ -6,37 +6,13 @@
 //! it does, and a VTK cell over the nodes of every solid.
 
 use faer::Mat;
-use flexbody_fem::element::{element_types, ElementType, SectionKind, SectionValues};
-use flexbody_fem::mesh::EveryElementType;
-use flexbody_fem::{assemble, Dof, DofKind, Element, Material, Model, SectionShape};
+use flexbody_fem::element::{element_types, ElementType, SectionKind};
+use flexbody_fem::mesh::{sample_section, EveryElementType};
+use flexbody_fem::{assemble, Dof, DofKind, Element, Model};
 use std::collections::{BTreeMap, HashSet};
 
-/// The section values of the test model: steel, a 50 x 80 mm rectangle,
-/// 12.5 kg masses, springs on ux.
-fn section(kind: SectionKind) -> SectionValues {
-    let material = Material::new(2.1e11, 0.3, 7850.0).unwrap();
-    match kind {
-        SectionKind::Solid => SectionValues::Solid { material },
-        SectionKind::Beam => SectionValues::Beam {
-            material,
-            constants: SectionShape::Rect {
-                width: 0.05,
-                height: 0.08,
-            }
-            .constants()
-            .unwrap(),
-            orientation: [0.0, 0.0, -1.0],
-        },
-        SectionKind::Mass => SectionValues::Mass { mass: 12.5 },
-        SectionKind::Spring { dofs } => SectionValues::Spring {
-            dofs: [0, 1].map(|k| (k < dofs).then_some(DofKind::Ux)),
-            stiffness: 1.0e6,
-        },
-    }
-}
-
 fn every_type() -> (EveryElementType, Model) {
-    let every = EveryElementType::new(section).unwrap();
+    let every = EveryElementType::sample().unwrap();
     let elements = every.elements.iter().map(|(_, e)| e.clone()).collect();
     let model = Model::new(every.nodes.clone(), elements, BTreeMap::new(), vec![], None).unwrap();
     (every, model)
@@ -104,8 +80,8 @@ fn a_section_of_another_kind_is_an_error_naming_the_element() {
     for t in element_types() {
         let nodes: Vec<u64> = (1..=t.nodes as u64).collect();
         let other = match t.section {
-            SectionKind::Mass => section(SectionKind::Solid),
-            _ => section(SectionKind::Mass),
+            SectionKind::Mass => sample_section(SectionKind::Solid),
+            _ => sample_section(SectionKind::Mass),
         };
         let err = (t.build)(7, &nodes, &other).unwrap_err().to_string();
         assert!(err.contains("element 7") && err.contains(t.name), "{err}");

@@ -6,8 +6,8 @@
 //! plane (v, rz = dv/dx). Local DOF order per node: ux uy uz rx ry rz.
 
 use super::{
-    axis, bending, congruence, mat_vec, Element, ElementBehaviour, ElementMatrices, ElementType,
-    SectionForces, SectionKind, SectionValues, VtkCell,
+    axis, bending, congruence, mat_vec, node_dofs, Element, ElementBehaviour, ElementMatrices,
+    ElementType, SectionForces, SectionKind, SectionValues, VtkCell,
 };
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
@@ -175,10 +175,7 @@ impl ElementBehaviour for Beam {
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| DofKind::ALL.into_iter().map(move |k| Dof::new(n, k)))
-            .collect()
+        node_dofs(&self.nodes, &DofKind::ALL)
     }
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {

@@ -25,7 +25,7 @@ pub use registry::{element_types, ElementType, SectionKind, SectionValues};
 pub use solid::{von_mises, Solid, SolidKind};
 pub use spring::{AxialSpring, Spring};
 
-use crate::dof::Dof;
+use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::FemError;
 use faer::Mat;
@@ -165,6 +165,18 @@ impl Element {
         self.behaviour().vtk_cell()
     }
 }
+
+/// The DOFs `kinds` of each node, node by node: the DOF order of an
+/// element whose nodes all carry the same DOFs.
+pub(crate) fn node_dofs(nodes: &[NodeId], kinds: &[DofKind]) -> Vec<Dof> {
+    nodes
+        .iter()
+        .flat_map(|&n| kinds.iter().map(move |&k| Dof::new(n, k)))
+        .collect()
+}
+
+/// The translations `ux, uy, uz`.
+pub(crate) const TRANSLATIONS: [DofKind; 3] = [DofKind::Ux, DofKind::Uy, DofKind::Uz];
 
 /// Coordinates of the given nodes (ids from a checked model).
 pub(crate) fn element_coords(model: &Model, nodes: &[NodeId]) -> Vec<[f64; 3]> {

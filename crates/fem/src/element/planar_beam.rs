@@ -3,7 +3,9 @@
 //! about y, so that the rigid-body modes of eq. 12 apply unchanged). This is
 //! the element of the report's side beam.
 
-use super::{axis, bending, mat_vec, ElementBehaviour, ElementMatrices, SectionForces, VtkCell};
+use super::{
+    axis, bending, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, SectionForces, VtkCell,
+};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::section::BeamProperties;
@@ -69,10 +71,7 @@ impl ElementBehaviour for PlanarBeam {
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| [Dof::new(n, DofKind::Uz), Dof::new(n, DofKind::Ry)])
-            .collect()
+        node_dofs(&self.nodes, &[DofKind::Uz, DofKind::Ry])
     }
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {

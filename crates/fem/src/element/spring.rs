@@ -2,8 +2,10 @@
 //! spring along the line between two nodes.
 
 use super::registry::wrong_section;
-use super::{axis, Element, ElementBehaviour, ElementMatrices, ElementType, SectionKind};
-use super::{SectionValues, VtkCell};
+use super::{
+    axis, node_dofs, Element, ElementBehaviour, ElementMatrices, ElementType, SectionKind,
+};
+use super::{SectionValues, VtkCell, TRANSLATIONS};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::FemError;
@@ -156,10 +158,7 @@ impl ElementBehaviour for AxialSpring {
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n, k)))
-            .collect()
+        node_dofs(&self.nodes, &TRANSLATIONS)
     }
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {

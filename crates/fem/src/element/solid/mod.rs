@@ -44,9 +44,9 @@ mod quadrature;
 mod shape;
 pub mod topology;
 
-use super::{element_coords, ElementBehaviour, ElementMatrices, VtkCell};
+use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell, TRANSLATIONS};
 use super::{Element, ElementType, SectionKind, SectionValues};
-use crate::dof::{Dof, DofKind};
+use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
@@ -229,10 +229,7 @@ impl ElementBehaviour for Solid {
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n, k)))
-            .collect()
+        node_dofs(&self.nodes, &TRANSLATIONS)
     }
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {

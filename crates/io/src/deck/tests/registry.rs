@@ -3,36 +3,12 @@
 
 use super::*;
 use crate::deck::keywords::property_keyword;
-use flexbody_fem::element::{SectionKind, SectionValues};
+use flexbody_fem::element::SectionKind;
 use flexbody_fem::mesh::EveryElementType;
-use flexbody_fem::Material;
 use std::fmt::Write as _;
 
-/// The values the deck below gives each section kind.
-fn section(kind: SectionKind) -> SectionValues {
-    let material = Material::new(2.1e11, 0.3, 7850.0).unwrap();
-    match kind {
-        SectionKind::Solid => SectionValues::Solid { material },
-        SectionKind::Beam => SectionValues::Beam {
-            material,
-            constants: SectionShape::Rect {
-                width: 0.05,
-                height: 0.08,
-            }
-            .constants()
-            .unwrap(),
-            orientation: [0.0, 1.0, 0.0],
-        },
-        SectionKind::Mass => SectionValues::Mass { mass: 12.5 },
-        SectionKind::Spring { dofs } => SectionValues::Spring {
-            dofs: [0, 1].map(|k| (k < dofs).then_some(DofKind::Uy)),
-            stiffness: 1.0e6,
-        },
-    }
-}
-
-/// The data lines of the section keyword of `kind`, as [`section`] gives
-/// its values.
+/// The data lines of the section keyword of `kind` that give the values
+/// of `sample_section` (the material is the deck's STEEL).
 fn section_lines(kind: SectionKind) -> &'static str {
     match kind {
         SectionKind::Solid => "",
@@ -46,7 +22,7 @@ fn section_lines(kind: SectionKind) -> &'static str {
 
 #[test]
 fn a_deck_with_every_registered_type_gives_the_elements_the_registry_builds() {
-    let every = EveryElementType::new(section).unwrap();
+    let every = EveryElementType::sample().unwrap();
     let mut text = String::from("*NODE\n");
     for n in &every.nodes {
         let [x, y, z] = n.coords;
