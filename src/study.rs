@@ -328,10 +328,7 @@ pub fn respond(
         }
         f
     };
-    let has_solids = model
-        .elements()
-        .iter()
-        .any(|e| matches!(e, crate::fem::Element::Solid(_)));
+    let has_solids = model.elements().iter().any(|e| e.has_stresses());
     let (von_mises, stress_nodes) = if has_solids {
         let s = crate::recover::nodal_stresses(model, u_re)?;
         (s.von_mises(), s.nodes)

@@ -3,7 +3,7 @@
 use super::mbs::RigidBodies;
 use super::raw::{RawFile, RawForce, RawSimulation};
 use super::{BodySource, SimulationSpec};
-use flexbody_fem::{Element, Model};
+use flexbody_fem::Model;
 use flexbody_io::{InputError, TomlSource};
 use flexbody_mbs::time::{Excitation, History, Profile, TimeForce, TimeSettings};
 use flexbody_mbs::Endpoint;
@@ -87,11 +87,12 @@ pub(super) fn simulation(
     })
 }
 
-/// Recorded elements are beams and recorded nodes are nodes of solids.
+/// Recorded elements have section forces (beams) and recorded nodes are
+/// nodes of elements with stresses (solids).
 fn check_records(r: &RawSimulation, model: &Model) -> Result<(), String> {
     for e in &r.record {
         match model.elements().iter().find(|x| x.id() == *e) {
-            Some(Element::PlanarBeam(_)) | Some(Element::Beam(_)) => {}
+            Some(x) if x.has_section_forces() => {}
             Some(_) => {
                 return Err(format!(
                     "record: element {e} is not a beam; section forces are recorded for beams"
@@ -104,7 +105,7 @@ fn check_records(r: &RawSimulation, model: &Model) -> Result<(), String> {
         let on_solid = model
             .elements()
             .iter()
-            .any(|e| matches!(e, Element::Solid(s) if s.nodes.contains(n)));
+            .any(|e| e.has_stresses() && e.nodes().contains(n));
         if !on_solid {
             return Err(format!(
                 "record_nodes: node {n} is not a node of a solid element"

@@ -2,10 +2,11 @@
 //! XML) with the eigenmodes of the reduced body and their stresses as point
 //! data.
 //!
-//! Cells: solids as VTK hexahedra (C3D8: 12), quadratic hexahedra (C3D20,
-//! C3D20R: 25), tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24) and
-//! wedges (C3D6: 13); beams and two-node springs as lines (3); point masses
-//! and grounded springs as vertices (1). The Abaqus node order is VTK's for
+//! Cells: each element's own ([`Element::vtk_cell`]): solids as VTK
+//! hexahedra (C3D8: 12), quadratic hexahedra (C3D20, C3D20R: 25),
+//! tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24) and wedges
+//! (C3D6: 13); beams and two-node springs as lines (3); point masses and
+//! grounded springs as vertices (1). The Abaqus node order is VTK's for
 //! all kinds except the wedge, whose triangles VTK orders the other way
 //! round (`[0, 2, 1, 3, 5, 4]`).
 //!
@@ -21,28 +22,16 @@
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::Mat;
-use flexbody_fem::element::SolidKind;
 use flexbody_fem::{Dof, DofKind, Element, Model, NodeId};
 use flexbody_reduce::ReducedBody;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// VTK cell type and node order (indices into the element's nodes).
-fn cell_of(e: &Element) -> Option<(u8, Vec<usize>)> {
-    let n = e.nodes().len();
-    match e {
-        Element::Solid(s) => Some(match s.kind {
-            SolidKind::C3D8 => (12, (0..8).collect()),
-            SolidKind::C3D20 | SolidKind::C3D20R => (25, (0..20).collect()),
-            SolidKind::C3D4 => (10, (0..4).collect()),
-            SolidKind::C3D10 => (24, (0..10).collect()),
-            SolidKind::C3D6 => (13, vec![0, 2, 1, 3, 5, 4]),
-        }),
-        _ if n == 2 => Some((3, vec![0, 1])),
-        _ if n == 1 => Some((1, vec![0])),
-        _ => None,
-    }
+/// VTK cell type and node order (indices into the element's nodes), as
+/// the element gives them ([`Element::vtk_cell`]).
+fn cell_of(e: &Element) -> Option<(u8, &'static [usize])> {
+    e.vtk_cell().map(|c| (c.cell_type, c.order))
 }
 
 /// The VTK cell type of each element that becomes a cell, in model order.

@@ -144,17 +144,17 @@ fn equations_of(terms: &[Terms]) -> Vec<usize> {
     v
 }
 
-/// Equation terms of an element's DOFs, in [`Element::dofs`] order (point
-/// masses: only the DOFs their node has).
+/// Equation terms of an element's DOFs, in [`Element::dofs`] order; for an
+/// element that creates no DOFs (a point mass), only those the DOF map
+/// holds ([`ElementBehaviour::creates_dofs`](crate::element::ElementBehaviour::creates_dofs)).
 fn element_equations(model: &Model, e: &Element) -> Vec<Terms> {
-    let map = model.dof_map();
-    match e {
-        Element::PointMass(p) => map
-            .node_dofs(p.node)
-            .into_iter()
-            .map(|(_, i)| Terms::Direct(i))
-            .collect(),
-        _ => e.dofs().into_iter().map(|d| Terms::of(model, d)).collect(),
+    let dofs = e.dofs().into_iter();
+    if e.creates_dofs() {
+        dofs.map(|d| Terms::of(model, d)).collect()
+    } else {
+        let map = model.dof_map();
+        dofs.filter_map(|d| map.index_of(d).map(Terms::Direct))
+            .collect()
     }
 }
 

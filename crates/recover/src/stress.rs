@@ -1,11 +1,12 @@
 //! Stresses of solid elements from the Ritz coordinates (report eq. 25 for
 //! solids): element stresses at the nodes, averaged over the elements that
-//! share a node, and the von Mises equivalent stress. Stresses are linear in
+//! share a node, and the von Mises equivalent stress. The elements with
+//! stresses are those whose [`Element::has_stresses`] holds; each gives its
+//! nodal stresses through [`Element::stresses`]. Stresses are linear in
 //! u = T q, so modal stress matrices `T_sigma` (6 x r per node) give
 //! `sigma = T_sigma q` from the r coordinates alone.
 
 use faer::Mat;
-use flexbody_fem::element::solid::Solid;
 use flexbody_fem::element::von_mises;
 use flexbody_fem::{Dof, Element, FemError, Model, NodeId, ValueTerms};
 use flexbody_reduce::ReducedBody;
@@ -44,11 +45,12 @@ impl NodalStresses {
 /// (over the model's equations; fixed DOFs are zero).
 pub fn nodal_stresses(model: &Model, u: &[f64]) -> Result<NodalStresses, FemError> {
     let mut sum: BTreeMap<NodeId, ([f64; 6], usize)> = BTreeMap::new();
-    for e in model.elements() {
-        let Element::Solid(s) = e else { continue };
-        let coords: Vec<[f64; 3]> = s.nodes.iter().map(|&n| model.coords(n)).collect();
+    for e in model.elements().iter().filter(|e| e.has_stresses()) {
         let u_e: Vec<f64> = e.dofs().iter().map(|d: &Dof| model.value(*d, u)).collect();
-        for (node, sigma) in s.nodes.iter().zip(s.nodal_stresses(&coords, &u_e)?) {
+        let Some(stresses) = e.stresses(model, &u_e, 1)? else {
+            continue;
+        };
+        for (node, sigma) in e.nodes().iter().zip(stresses) {
             let entry = sum.entry(*node).or_insert(([0.0; 6], 0));
             for (acc, v) in entry.0.iter_mut().zip(sigma) {
                 *acc += v;
@@ -81,18 +83,12 @@ impl ModalStress {
     pub fn new(model: &Model, body: &ReducedBody) -> Result<Self, FemError> {
         use rayon::prelude::*;
         let r = body.r();
-        let solids: Vec<(&Element, &Solid)> = model
+        let solids: Vec<&Element> = model
             .elements()
             .iter()
-            .filter_map(|e| match e {
-                Element::Solid(s) => Some((e, s)),
-                _ => None,
-            })
+            .filter(|e| e.has_stresses())
             .collect();
-        let mut nodes: Vec<NodeId> = solids
-            .iter()
-            .flat_map(|(_, s)| s.nodes.iter().copied())
-            .collect();
+        let mut nodes: Vec<NodeId> = solids.iter().flat_map(|e| e.nodes()).collect();
         nodes.sort_unstable();
         nodes.dedup();
         let position: HashMap<NodeId, usize> =
@@ -100,22 +96,22 @@ impl ModalStress {
         // Per node and column, the sum over its elements; per node, their count.
         let mut sum = vec![[0.0; 6]; nodes.len() * r];
         let mut count = vec![0usize; nodes.len()];
-        let element_stresses = |(e, s): &(&Element, &Solid)| {
-            let coords: Vec<[f64; 3]> = s.nodes.iter().map(|&n| model.coords(n)).collect();
+        let element_stresses = |e: &&Element| {
             let terms: Vec<ValueTerms> = e.dofs().iter().map(|d| model.value_terms(*d)).collect();
             let mut u_e = Vec::with_capacity(terms.len() * r);
             for j in 0..r {
                 let u = body.basis.col_as_slice(j);
                 u_e.extend(terms.iter().map(|t| t.of(u)));
             }
-            s.nodal_stress_columns(&coords, &u_e, r)
+            e.stresses(model, &u_e, r)
         };
         for chunk in solids.chunks(ELEMENTS_PER_BATCH) {
             let stresses: Vec<_> = chunk.par_iter().map(element_stresses).collect();
-            for ((_, s), st) in chunk.iter().zip(stresses) {
-                let st = st?;
-                let nn = s.nodes.len();
-                for (a, node) in s.nodes.iter().enumerate() {
+            for (e, st) in chunk.iter().zip(stresses) {
+                let Some(st) = st? else { continue };
+                let element_nodes = e.nodes();
+                let nn = element_nodes.len();
+                for (a, node) in element_nodes.iter().enumerate() {
                     let k = position[node];
                     count[k] += 1;
                     for j in 0..r {

@@ -5,12 +5,43 @@
 //! local x-z plane (displacement w, rotation ry = -dw/dx), `Iz` in the x-y
 //! plane (v, rz = dv/dx). Local DOF order per node: ux uy uz rx ry rz.
 
-use super::{axis, bending, congruence, mat_vec, ElementMatrices, SectionForces};
+use super::{
+    axis, bending, congruence, mat_vec, node_dofs, Element, ElementBehaviour, ElementMatrices,
+    ElementType, SectionForces, SectionKind, SectionValues, VtkCell,
+};
 use crate::dof::{Dof, DofKind};
-use crate::model::NodeId;
+use crate::model::{Model, NodeId};
 use crate::section::{BeamProperties, BeamTheory};
 use crate::FemError;
 use faer::Mat;
+
+/// The deck's beam: B31 is a two-node Timoshenko beam with rotary inertia.
+pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
+    name: "B31",
+    nodes: 2,
+    section: SectionKind::Beam,
+    reference_nodes: &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
+    build: |id, nodes, section| match (section, nodes) {
+        (
+            SectionValues::Beam {
+                material,
+                constants,
+                orientation,
+            },
+            &[a, b],
+        ) => Ok(Element::Beam(Beam {
+            id,
+            nodes: [a, b],
+            properties: BeamProperties::new(
+                material.clone(),
+                constants.clone(),
+                BeamTheory::Timoshenko,
+            ),
+            orientation: *orientation,
+        })),
+        _ => Err(super::registry::wrong_section("B31", id, section)),
+    },
+}];
 
 /// A 3D beam element.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,13 +54,6 @@ pub struct Beam {
 }
 
 impl Beam {
-    pub(crate) fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| DofKind::ALL.into_iter().map(move |k| Dof::new(n, k)))
-            .collect()
-    }
-
     /// Rotation from global to local components (rows: local x, y, z).
     fn rotation(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, [[f64; 3]; 3]), FemError> {
         let (l, ex) = axis(a, b);
@@ -135,11 +159,32 @@ impl Beam {
         (k, m)
     }
 
-    pub(crate) fn validate(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), FemError> {
+    /// The coordinates of the two nodes.
+    fn ends(&self, model: &Model) -> ([f64; 3], [f64; 3]) {
+        (model.coords(self.nodes[0]), model.coords(self.nodes[1]))
+    }
+}
+
+impl ElementBehaviour for Beam {
+    fn id(&self) -> usize {
+        self.id
+    }
+
+    fn nodes(&self) -> Vec<NodeId> {
+        self.nodes.to_vec()
+    }
+
+    fn dofs(&self) -> Vec<Dof> {
+        node_dofs(&self.nodes, &DofKind::ALL)
+    }
+
+    fn validate(&self, model: &Model) -> Result<(), FemError> {
+        let (a, b) = self.ends(model);
         self.rotation(a, b).map(|_| ())
     }
 
-    pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
+    fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
+        let (a, b) = self.ends(model);
         let (l, r) = self.rotation(a, b)?;
         let t = Self::transformation(&r);
         let (k, m) = self.local_matrices(l);
@@ -150,13 +195,18 @@ impl Beam {
         })
     }
 
-    pub(crate) fn section_forces(
+    fn has_section_forces(&self) -> bool {
+        true
+    }
+
+    /// All six section forces at both ends, in the local frame.
+    fn section_forces(
         &self,
-        a: [f64; 3],
-        b: [f64; 3],
+        model: &Model,
         u: &[f64],
         acc: &[f64],
-    ) -> Result<SectionForces, FemError> {
+    ) -> Result<Option<SectionForces>, FemError> {
+        let (a, b) = self.ends(model);
         let (l, r) = self.rotation(a, b)?;
         let t = Self::transformation(&r);
         let (k, m) = self.local_matrices(l);
@@ -170,7 +220,11 @@ impl Beam {
             out.start[c] = -f[c];
             out.end[c] = f[6 + c];
         }
-        Ok(out)
+        Ok(Some(out))
+    }
+
+    fn vtk_cell(&self) -> Option<VtkCell> {
+        Some(VtkCell::LINE)
     }
 }
 

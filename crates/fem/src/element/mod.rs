@@ -1,26 +1,38 @@
 //! Elements: each computes its matrices in global DOFs and, for beams, the
 //! end forces of report eq. 25 (`s_e = K_e u_e + M_e u_e''`).
+//!
+//! An element type is one file here that implements [`ElementBehaviour`],
+//! registered once, in this file: its variant in [`Element`] (with its arm
+//! in [`Element::behaviour`]) and, if decks name it, its table of
+//! [`ElementType`]s in [`ELEMENT_TYPES`]. The assembler, the deck reader,
+//! recovery and the VTK writer use elements only through these;
+//! `docs/elements.md` walks through adding one.
 
 pub mod beam;
+mod behaviour;
 mod bending;
 pub mod planar_beam;
 pub mod point_mass;
+mod registry;
 pub mod solid;
 pub mod spring;
 
 pub use beam::Beam;
+pub use behaviour::{ElementBehaviour, VtkCell};
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
+pub use registry::{element_types, ElementType, SectionKind, SectionValues};
 pub use solid::{von_mises, Solid, SolidKind};
 pub use spring::{AxialSpring, Spring};
 
-use crate::dof::Dof;
+use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::FemError;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
-/// The element kinds flexbody assembles.
+/// The element kinds flexbody assembles: one variant per type that
+/// implements [`ElementBehaviour`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Element {
     /// Planar Euler-Bernoulli beam along x, bending in the x-z plane (uz, ry).
@@ -36,6 +48,15 @@ pub enum Element {
     /// Solid element (C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6).
     Solid(Solid),
 }
+
+/// The element types decks name, the rows of every element file, in the
+/// order the deck reader lists them: solids, beams, masses, springs.
+pub static ELEMENT_TYPES: &[&[ElementType]] = &[
+    solid::ELEMENT_TYPES,
+    beam::ELEMENT_TYPES,
+    point_mass::ELEMENT_TYPES,
+    spring::ELEMENT_TYPES,
+];
 
 /// Element matrices in the element's global DOFs.
 #[derive(Clone, Debug)]
@@ -59,85 +80,55 @@ impl SectionForces {
 }
 
 impl Element {
+    /// The element as its type's [`ElementBehaviour`]: the one place that
+    /// lists the variants.
+    pub fn behaviour(&self) -> &dyn ElementBehaviour {
+        match self {
+            Element::PlanarBeam(e) => e,
+            Element::Beam(e) => e,
+            Element::PointMass(e) => e,
+            Element::Spring(e) => e,
+            Element::AxialSpring(e) => e,
+            Element::Solid(e) => e,
+        }
+    }
+
     /// Element number (user id).
     pub fn id(&self) -> usize {
-        match self {
-            Element::PlanarBeam(e) => e.id,
-            Element::Beam(e) => e.id,
-            Element::PointMass(e) => e.id,
-            Element::Spring(e) => e.id,
-            Element::AxialSpring(e) => e.id,
-            Element::Solid(e) => e.id,
-        }
+        self.behaviour().id()
     }
 
     /// Nodes the element connects.
     pub fn nodes(&self) -> Vec<NodeId> {
-        match self {
-            Element::PlanarBeam(e) => e.nodes.to_vec(),
-            Element::Beam(e) => e.nodes.to_vec(),
-            Element::PointMass(e) => vec![e.node],
-            Element::Spring(e) => {
-                let mut n = vec![e.first.node];
-                if let Some(s) = e.second {
-                    n.push(s.node);
-                }
-                n
-            }
-            Element::AxialSpring(e) => e.nodes.to_vec(),
-            Element::Solid(e) => e.nodes.clone(),
-        }
+        self.behaviour().nodes()
     }
 
     /// True if the element gives its nodes DOFs (stiffness); point masses
-    /// only load the DOFs others create.
+    /// only load the DOFs others create ([`ElementBehaviour::creates_dofs`]).
     pub fn creates_dofs(&self) -> bool {
-        !matches!(self, Element::PointMass(_))
+        self.behaviour().creates_dofs()
     }
 
     /// The DOFs the element acts on (before any are fixed).
     pub fn dofs(&self) -> Vec<Dof> {
-        match self {
-            Element::PlanarBeam(e) => e.dofs(),
-            Element::Beam(e) => e.dofs(),
-            Element::PointMass(e) => e.dofs(),
-            Element::Spring(e) => e.dofs(),
-            Element::AxialSpring(e) => e.dofs(),
-            Element::Solid(e) => e.dofs(),
-        }
+        self.behaviour().dofs()
     }
 
-    /// Checks the element's geometry (length, orientation) without building
-    /// its matrices.
+    /// Checks the element's geometry (length, orientation, volume) without
+    /// building its matrices.
     pub fn validate(&self, model: &Model) -> Result<(), FemError> {
-        match self {
-            Element::PlanarBeam(e) => {
-                e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
-            }
-            Element::Beam(e) => e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1])),
-            Element::AxialSpring(e) => {
-                e.validate(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
-            }
-            Element::Solid(e) => e.validate(&element_coords(model, &e.nodes)),
-            Element::PointMass(_) | Element::Spring(_) => Ok(()),
-        }
+        self.behaviour().validate(model)
     }
 
     /// Stiffness and mass in global DOFs. Point masses return only the DOFs
     /// the model has at their node.
     pub fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
-        match self {
-            Element::PlanarBeam(e) => {
-                e.matrices(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
-            }
-            Element::Beam(e) => e.matrices(model.coords(e.nodes[0]), model.coords(e.nodes[1])),
-            Element::PointMass(e) => Ok(e.matrices(model)),
-            Element::Spring(e) => Ok(e.matrices()),
-            Element::AxialSpring(e) => {
-                e.matrices(model.coords(e.nodes[0]), model.coords(e.nodes[1]))
-            }
-            Element::Solid(e) => e.matrices(&element_coords(model, &e.nodes)),
-        }
+        self.behaviour().matrices(model)
+    }
+
+    /// True if the element has section forces (beams).
+    pub fn has_section_forces(&self) -> bool {
+        self.behaviour().has_section_forces()
     }
 
     /// Report eq. 25 for one element: end forces `K_e u_e + M_e a_e` turned
@@ -150,17 +141,42 @@ impl Element {
         u_e: &[f64],
         a_e: &[f64],
     ) -> Result<Option<SectionForces>, FemError> {
-        match self {
-            Element::PlanarBeam(e) => e
-                .section_forces(model.coords(e.nodes[0]), model.coords(e.nodes[1]), u_e, a_e)
-                .map(Some),
-            Element::Beam(e) => e
-                .section_forces(model.coords(e.nodes[0]), model.coords(e.nodes[1]), u_e, a_e)
-                .map(Some),
-            _ => Ok(None),
-        }
+        self.behaviour().section_forces(model, u_e, a_e)
+    }
+
+    /// True if the element has stresses (solids).
+    pub fn has_stresses(&self) -> bool {
+        self.behaviour().has_stresses()
+    }
+
+    /// Nodal stresses of `columns` displacement fields (solids only;
+    /// `None` otherwise), as [`ElementBehaviour::stresses`].
+    pub fn stresses(
+        &self,
+        model: &Model,
+        u_e: &[f64],
+        columns: usize,
+    ) -> Result<Option<Vec<[f64; 6]>>, FemError> {
+        self.behaviour().stresses(model, u_e, columns)
+    }
+
+    /// The VTK cell that draws the element, if any.
+    pub fn vtk_cell(&self) -> Option<VtkCell> {
+        self.behaviour().vtk_cell()
     }
 }
+
+/// The DOFs `kinds` of each node, node by node: the DOF order of an
+/// element whose nodes all carry the same DOFs.
+pub(crate) fn node_dofs(nodes: &[NodeId], kinds: &[DofKind]) -> Vec<Dof> {
+    nodes
+        .iter()
+        .flat_map(|&n| kinds.iter().map(move |&k| Dof::new(n, k)))
+        .collect()
+}
+
+/// The translations `ux, uy, uz`.
+pub(crate) const TRANSLATIONS: [DofKind; 3] = [DofKind::Ux, DofKind::Uy, DofKind::Uz];
 
 /// Coordinates of the given nodes (ids from a checked model).
 pub(crate) fn element_coords(model: &Model, nodes: &[NodeId]) -> Vec<[f64; 3]> {

@@ -3,9 +3,11 @@
 //! about y, so that the rigid-body modes of eq. 12 apply unchanged). This is
 //! the element of the report's side beam.
 
-use super::{axis, bending, mat_vec, ElementMatrices, SectionForces};
+use super::{
+    axis, bending, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, SectionForces, VtkCell,
+};
 use crate::dof::{Dof, DofKind};
-use crate::model::NodeId;
+use crate::model::{Model, NodeId};
 use crate::section::BeamProperties;
 use crate::FemError;
 use faer::Mat;
@@ -21,13 +23,6 @@ pub struct PlanarBeam {
 }
 
 impl PlanarBeam {
-    pub(crate) fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| [Dof::new(n, DofKind::Uz), Dof::new(n, DofKind::Ry)])
-            .collect()
-    }
-
     /// Length and direction sign (+1 if node 2 lies at larger x).
     fn geometry(&self, a: [f64; 3], b: [f64; 3]) -> Result<(f64, f64), FemError> {
         let (l, dir) = axis(a, b);
@@ -60,12 +55,31 @@ impl PlanarBeam {
         (k, m)
     }
 
-    pub(crate) fn validate(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), FemError> {
-        self.geometry(a, b).map(|_| ())
+    /// Length and direction sign of the element in `model`.
+    fn geometry_in(&self, model: &Model) -> Result<(f64, f64), FemError> {
+        self.geometry(model.coords(self.nodes[0]), model.coords(self.nodes[1]))
+    }
+}
+
+impl ElementBehaviour for PlanarBeam {
+    fn id(&self) -> usize {
+        self.id
     }
 
-    pub(crate) fn matrices(&self, a: [f64; 3], b: [f64; 3]) -> Result<ElementMatrices, FemError> {
-        let (l, s) = self.geometry(a, b)?;
+    fn nodes(&self) -> Vec<NodeId> {
+        self.nodes.to_vec()
+    }
+
+    fn dofs(&self) -> Vec<Dof> {
+        node_dofs(&self.nodes, &[DofKind::Uz, DofKind::Ry])
+    }
+
+    fn validate(&self, model: &Model) -> Result<(), FemError> {
+        self.geometry_in(model).map(|_| ())
+    }
+
+    fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
+        let (l, s) = self.geometry_in(model)?;
         let (stiffness, mass) = self.local(l, s);
         Ok(ElementMatrices {
             dofs: self.dofs(),
@@ -74,15 +88,18 @@ impl PlanarBeam {
         })
     }
 
+    fn has_section_forces(&self) -> bool {
+        true
+    }
+
     /// Section forces `Qz` and `My` at both ends (report eq. 25).
-    pub(crate) fn section_forces(
+    fn section_forces(
         &self,
-        a: [f64; 3],
-        b: [f64; 3],
+        model: &Model,
         u: &[f64],
         acc: &[f64],
-    ) -> Result<SectionForces, FemError> {
-        let (l, s) = self.geometry(a, b)?;
+    ) -> Result<Option<SectionForces>, FemError> {
+        let (l, s) = self.geometry_in(model)?;
         let (k, m) = self.local(l, s);
         let ku = mat_vec(&k, u);
         let ma = mat_vec(&m, acc);
@@ -94,6 +111,10 @@ impl PlanarBeam {
         out.start[4] = -s * f[1];
         out.end[2] = f[2];
         out.end[4] = s * f[3];
-        Ok(out)
+        Ok(Some(out))
+    }
+
+    fn vtk_cell(&self) -> Option<VtkCell> {
+        Some(VtkCell::LINE)
     }
 }

@@ -4,12 +4,12 @@
 //! element, node or boundary condition.
 
 use super::cards::{Files, Loc};
-use super::keywords::{ElementType, Reader};
+use super::keywords::{property_keyword, Reader};
 use super::properties::{spring_properties, RawSection, SectionData, SpringProperties};
 use crate::InputError;
-use flexbody_fem::element::{AxialSpring, Beam, PointMass, Solid, Spring};
+use flexbody_fem::element::{ElementType, SectionKind, SectionValues};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
-use flexbody_fem::{BeamProperties, BeamTheory, Dof, Element, FemError, Material, Model, NodeId};
+use flexbody_fem::{Dof, Element, FemError, Material, Model, NodeId};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -85,8 +85,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                          properties from {}",
                         s.keyword,
                         s.elset,
-                        e.kind.name(),
-                        e.kind.property_keyword()
+                        e.kind.name,
+                        property_keyword(e.kind.section)
                     ),
                 ));
             }
@@ -122,82 +122,15 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                 format!(
                     "element {} ({}) has no properties: no {} covers it",
                     e.id,
-                    e.kind.name(),
-                    e.kind.property_keyword()
+                    e.kind.name,
+                    property_keyword(e.kind.section)
                 ),
             ));
         };
-        let s = &sections[si];
-        let id = e.id;
-        let element = match (e.kind, &s.data, e.nodes.as_slice()) {
-            (ElementType::Solid(kind), SectionData::Solid, _) => Element::Solid(Solid {
-                id,
-                kind,
-                nodes: e.nodes.clone(),
-                material: props.material(s)?,
-            }),
-            (ElementType::B31, SectionData::Beam { constants, n1 }, &[a, b]) => {
-                Element::Beam(Beam {
-                    id,
-                    nodes: [a, b],
-                    properties: BeamProperties::new(
-                        props.material(s)?,
-                        constants.clone(),
-                        BeamTheory::Timoshenko,
-                    ),
-                    orientation: *n1,
-                })
-            }
-            (ElementType::Mass, SectionData::Mass(mass), &[node]) => {
-                Element::PointMass(PointMass {
-                    id,
-                    node,
-                    mass: *mass,
-                    inertia: [0.0; 6],
-                })
-            }
-            (ElementType::SpringA, SectionData::Spring(_), &[a, b]) => {
-                Element::AxialSpring(AxialSpring {
-                    id,
-                    nodes: [a, b],
-                    stiffness: props.spring(si, s, e.kind)?.stiffness,
-                })
-            }
-            (ElementType::Spring1 | ElementType::Spring2, SectionData::Spring(_), nodes) => {
-                let p = props.spring(si, s, e.kind)?;
-                let dof = |node: Option<&NodeId>, kind: Option<flexbody_fem::DofKind>| {
-                    node.zip(kind).map(|(n, k)| Dof::new(*n, k))
-                };
-                let first = dof(nodes.first(), p.first).ok_or_else(|| {
-                    files.error(e.loc, format!("element {id}: spring without a DOF"))
-                })?;
-                let second = if e.kind == ElementType::Spring2 {
-                    Some(dof(nodes.get(1), p.second).ok_or_else(|| {
-                        files.error(e.loc, format!("element {id}: spring without a second DOF"))
-                    })?)
-                } else {
-                    None
-                };
-                Element::Spring(Spring {
-                    id,
-                    first,
-                    second,
-                    stiffness: p.stiffness,
-                })
-            }
-            _ => {
-                return Err(files.error(
-                    e.loc,
-                    format!(
-                        "element {id} ({}) does not fit {} on {}",
-                        e.kind.name(),
-                        s.keyword,
-                        files.describe(s.loc)
-                    ),
-                ))
-            }
-        };
-        element_loc.insert(id, e.loc);
+        let values = props.section_values(si, &sections[si], e.kind)?;
+        let element = (e.kind.build)(e.id, &e.nodes, &values)
+            .map_err(|err| files.error(e.loc, err.to_string()))?;
+        element_loc.insert(e.id, e.loc);
         elements.push(element);
     }
 
@@ -257,7 +190,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
             | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
             FemError::MassWithoutDof { node } => raw
                 .iter()
-                .find(|e| e.kind == ElementType::Mass && e.nodes.first() == Some(node))
+                .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
                 .map(|e| e.loc),
             _ => None,
         };
@@ -366,21 +299,49 @@ impl Properties<'_> {
         Ok(material)
     }
 
+    /// The values section `s` (number `si`) gives an element of type
+    /// `kind`, which it accepts.
+    fn section_values(
+        &mut self,
+        si: usize,
+        s: &RawSection,
+        kind: &'static ElementType,
+    ) -> Result<SectionValues, InputError> {
+        Ok(match &s.data {
+            SectionData::Solid => SectionValues::Solid {
+                material: self.material(s)?,
+            },
+            SectionData::Beam { constants, n1 } => SectionValues::Beam {
+                material: self.material(s)?,
+                constants: constants.clone(),
+                orientation: *n1,
+            },
+            SectionData::Mass(mass) => SectionValues::Mass { mass: *mass },
+            SectionData::Spring(_) => {
+                let p = self.spring(si, s, kind)?;
+                SectionValues::Spring {
+                    dofs: [p.first, p.second],
+                    stiffness: p.stiffness,
+                }
+            }
+        })
+    }
+
     /// The DOFs and stiffness of springs of type `kind` under section `si`.
     fn spring(
         &mut self,
         si: usize,
         s: &RawSection,
-        kind: ElementType,
+        kind: &'static ElementType,
     ) -> Result<SpringProperties, InputError> {
-        if let Some(p) = self.springs.get(&(si, kind.name())) {
+        if let Some(p) = self.springs.get(&(si, kind.name)) {
             return Ok(*p);
         }
         let SectionData::Spring(lines) = &s.data else {
             return Err(self.files.error(s.loc, "*SPRING data expected"));
         };
         let p = spring_properties(self.files, s.loc, lines, kind)?;
-        self.springs.insert((si, kind.name()), p);
+        self.springs.insert((si, kind.name), p);
         Ok(p)
     }
 }

@@ -7,7 +7,7 @@
 
 use super::cards::{is_numeric, name, Card, DataLine, Files, Loc};
 use crate::InputError;
-use flexbody_fem::element::SolidKind;
+use flexbody_fem::element::{element_types, ElementType, SectionKind};
 use flexbody_fem::{Dof, DofKind, Node, NodeId};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -149,60 +149,13 @@ const MATERIAL_OPTIONS: &[&str] = &[
     "DEPVAR",
 ];
 
-/// Element types read from `*ELEMENT, TYPE=`.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub(super) enum ElementType {
-    Solid(SolidKind),
-    B31,
-    Mass,
-    SpringA,
-    Spring1,
-    Spring2,
-}
-
-impl ElementType {
-    fn parse(s: &str) -> Option<Self> {
-        if let Some(k) = SolidKind::parse(s) {
-            return Some(ElementType::Solid(k));
-        }
-        Some(match s {
-            "B31" => ElementType::B31,
-            "MASS" => ElementType::Mass,
-            "SPRINGA" => ElementType::SpringA,
-            "SPRING1" => ElementType::Spring1,
-            "SPRING2" => ElementType::Spring2,
-            _ => return None,
-        })
-    }
-
-    /// Abaqus/CalculiX name.
-    pub fn name(self) -> &'static str {
-        match self {
-            ElementType::Solid(k) => k.name(),
-            ElementType::B31 => "B31",
-            ElementType::Mass => "MASS",
-            ElementType::SpringA => "SPRINGA",
-            ElementType::Spring1 => "SPRING1",
-            ElementType::Spring2 => "SPRING2",
-        }
-    }
-
-    fn node_count(self) -> usize {
-        match self {
-            ElementType::Solid(k) => k.node_count(),
-            ElementType::Mass | ElementType::Spring1 => 1,
-            ElementType::B31 | ElementType::SpringA | ElementType::Spring2 => 2,
-        }
-    }
-
-    /// The keyword that gives elements of this type their properties.
-    pub fn property_keyword(self) -> &'static str {
-        match self {
-            ElementType::Solid(_) => "*SOLID SECTION",
-            ElementType::B31 => "*BEAM SECTION",
-            ElementType::Mass => "*MASS",
-            ElementType::SpringA | ElementType::Spring1 | ElementType::Spring2 => "*SPRING",
-        }
+/// The keyword that gives elements of a section kind their properties.
+pub(super) fn property_keyword(section: SectionKind) -> &'static str {
+    match section {
+        SectionKind::Solid => "*SOLID SECTION",
+        SectionKind::Beam => "*BEAM SECTION",
+        SectionKind::Mass => "*MASS",
+        SectionKind::Spring { .. } => "*SPRING",
     }
 }
 
@@ -229,7 +182,8 @@ fn unsupported_type_hint(t: &str) -> &'static str {
 #[derive(Clone, Debug)]
 pub(super) struct RawElement {
     pub id: usize,
-    pub kind: ElementType,
+    /// Its type in the element registry.
+    pub kind: &'static ElementType,
     pub nodes: Vec<NodeId>,
     pub loc: Loc,
 }
@@ -438,18 +392,19 @@ impl<'a> Reader<'a> {
             ));
         }
         let type_name = card.require_name(self.files, "TYPE")?;
-        let kind = ElementType::parse(&type_name).ok_or_else(|| {
+        let kind = ElementType::find(&type_name).ok_or_else(|| {
+            let supported: Vec<&str> = element_types().map(|t| t.name).collect();
             self.error(
                 card.loc,
                 format!(
-                    "element type {type_name} is not supported{} \
-                     (supported: C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6, B31, MASS, SPRINGA, SPRING1, SPRING2)",
-                    unsupported_type_hint(&type_name)
+                    "element type {type_name} is not supported{} (supported: {})",
+                    unsupported_type_hint(&type_name),
+                    supported.join(", ")
                 ),
             )
         })?;
         let set = card.value("ELSET").map(name);
-        let needed = kind.node_count();
+        let needed = kind.nodes;
         let mut lines = card.data.iter();
         while let Some(first) = lines.next() {
             let mut fields: Vec<&str> = first.fields.iter().map(String::as_str).collect();
@@ -479,7 +434,7 @@ impl<'a> Reader<'a> {
                     format!(
                         "element {id} has {} nodes, but type {} needs {needed}",
                         nodes.len(),
-                        kind.name()
+                        kind.name
                     ),
                 ));
             }

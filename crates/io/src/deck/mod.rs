@@ -16,7 +16,7 @@
 //! | keyword | reading |
 //! | --- | --- |
 //! | `*NODE` (`NSET=`) | `id, x, y, z`; missing coordinates are 0 |
-//! | `*ELEMENT, TYPE=, ELSET=` | C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2; any other type is an error |
+//! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2; any other type is an error |
 //! | `*NSET`, `*ELSET` | ids, names of sets defined before, or `GENERATE` (`first, last[, step]`) |
 //! | `*MATERIAL, NAME=` + `*ELASTIC` (isotropic `E, nu`) + `*DENSITY` | one data line each; other `TYPE=`s and temperature tables are errors; a material used without `*DENSITY` is an error (the mass matrix needs it) |
 //! | `*SOLID SECTION, ELSET=, MATERIAL=` | the data line is ignored; every solid needs one |

@@ -8,8 +8,9 @@
 //! BOX) is the width along y and the second (`b`) the height along z.
 
 use super::cards::{Card, DataLine, Files, Loc};
-use super::keywords::{ElementType, Reader};
+use super::keywords::Reader;
 use crate::InputError;
+use flexbody_fem::element::{ElementType, SectionKind};
 use flexbody_fem::section::SectionConstants;
 use flexbody_fem::{DofKind, SectionShape};
 
@@ -42,16 +43,13 @@ pub(super) enum SectionData {
 
 impl SectionData {
     /// True if elements of type `t` take their properties from this.
-    pub fn accepts(&self, t: ElementType) -> bool {
+    pub fn accepts(&self, t: &ElementType) -> bool {
         matches!(
-            (self, t),
-            (SectionData::Solid, ElementType::Solid(_))
-                | (SectionData::Beam { .. }, ElementType::B31)
-                | (SectionData::Mass(_), ElementType::Mass)
-                | (
-                    SectionData::Spring(_),
-                    ElementType::SpringA | ElementType::Spring1 | ElementType::Spring2
-                )
+            (self, t.section),
+            (SectionData::Solid, SectionKind::Solid)
+                | (SectionData::Beam { .. }, SectionKind::Beam)
+                | (SectionData::Mass(_), SectionKind::Mass)
+                | (SectionData::Spring(_), SectionKind::Spring { .. })
         )
     }
 }
@@ -356,27 +354,27 @@ fn beam_shape(
 }
 
 /// Reads the `*SPRING` data lines (`card_loc`: the `*SPRING` line) for
-/// springs of type `kind`:
-/// SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs,
-/// then stiffness (CalculiX manual, `*SPRING`; the blank first line of
-/// SPRINGA is dropped with the other blank lines).
+/// springs of type `kind`, by the number of DOFs its section names:
+/// none (SPRINGA): stiffness; one (SPRING1): DOF, then stiffness; two
+/// (SPRING2): two DOFs, then stiffness (CalculiX manual, `*SPRING`; the
+/// blank first line of SPRINGA is dropped with the other blank lines).
 pub(super) fn spring_properties(
     files: &Files,
     card_loc: Loc,
     lines: &[DataLine],
-    kind: ElementType,
+    kind: &ElementType,
 ) -> Result<SpringProperties, InputError> {
-    let dof_count = match kind {
-        ElementType::Spring1 => 1,
-        ElementType::Spring2 => 2,
+    let dof_count = match kind.section {
+        SectionKind::Spring { dofs } => dofs.min(2),
         _ => 0,
     };
     let expected = if dof_count == 0 { 1 } else { 2 };
     let layout = match dof_count {
-        0 => "for SPRINGA: one line with the stiffness",
-        1 => "for SPRING1: a line with the DOF (1-6), then a line with the stiffness",
-        _ => "for SPRING2: a line with the two DOFs (1-6), then a line with the stiffness",
+        0 => "one line with the stiffness",
+        1 => "a line with the DOF (1-6), then a line with the stiffness",
+        _ => "a line with the two DOFs (1-6), then a line with the stiffness",
     };
+    let layout = format!("for {}: {layout}", kind.name);
     if lines.len() != expected {
         let loc = lines.get(expected).map_or(card_loc, |l| l.loc);
         return Err(files.error(

@@ -44,9 +44,10 @@ mod quadrature;
 mod shape;
 pub mod topology;
 
-use super::ElementMatrices;
-use crate::dof::{Dof, DofKind};
-use crate::model::NodeId;
+use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell, TRANSLATIONS};
+use super::{Element, ElementType, SectionKind, SectionValues};
+use crate::dof::Dof;
+use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
 use faer::Mat;
@@ -89,7 +90,7 @@ impl SolidKind {
     ];
 
     /// Number of nodes.
-    pub fn node_count(self) -> usize {
+    pub const fn node_count(self) -> usize {
         match self {
             SolidKind::C3D8 => 8,
             SolidKind::C3D20 | SolidKind::C3D20R => 20,
@@ -100,7 +101,7 @@ impl SolidKind {
     }
 
     /// Abaqus/CalculiX name (`"C3D20R"`).
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             SolidKind::C3D8 => "C3D8",
             SolidKind::C3D20 => "C3D20",
@@ -116,6 +117,54 @@ impl SolidKind {
         SolidKind::ALL
             .into_iter()
             .find(|k| k.name().eq_ignore_ascii_case(s))
+    }
+
+    /// The VTK cell: hexahedron (12), quadratic hexahedron (25),
+    /// tetrahedron (10), quadratic tetrahedron (24) in the Abaqus node
+    /// order, which is VTK's; the wedge (13) with its triangles turned the
+    /// other way round, as VTK orders them.
+    pub const fn vtk_cell(self) -> VtkCell {
+        match self {
+            SolidKind::C3D8 => VtkCell::in_order(12, 8),
+            SolidKind::C3D20 | SolidKind::C3D20R => VtkCell::in_order(25, 20),
+            SolidKind::C3D4 => VtkCell::in_order(10, 4),
+            SolidKind::C3D10 => VtkCell::in_order(24, 10),
+            SolidKind::C3D6 => VtkCell {
+                cell_type: 13,
+                order: &[0, 2, 1, 3, 5, 4],
+            },
+        }
+    }
+
+    /// The deck type of this kind: its name, node count, a solid section
+    /// and a reference element in natural coordinates.
+    const fn element_type(self, build: BuildFn) -> ElementType {
+        ElementType {
+            name: self.name(),
+            nodes: self.node_count(),
+            section: SectionKind::Solid,
+            reference_nodes: shape::node_coordinates(self),
+            build,
+        }
+    }
+
+    /// Element `id` of this kind on `nodes`, with the material of a solid
+    /// section.
+    fn build(
+        self,
+        id: usize,
+        nodes: &[NodeId],
+        section: &SectionValues,
+    ) -> Result<Element, FemError> {
+        match section {
+            SectionValues::Solid { material } => Ok(Element::Solid(Solid {
+                id,
+                kind: self,
+                nodes: nodes.to_vec(),
+                material: material.clone(),
+            })),
+            _ => Err(super::registry::wrong_section(self.name(), id, section)),
+        }
     }
 
     /// The stiffness rule (CalculiX `mint3d` with `intscheme = 0`).
@@ -143,6 +192,20 @@ impl SolidKind {
     }
 }
 
+/// The signature of [`ElementType::build`].
+type BuildFn = fn(usize, &[NodeId], &SectionValues) -> Result<Element, FemError>;
+
+/// The deck's solid types, one per [`SolidKind`] in the order of
+/// [`SolidKind::ALL`].
+pub(super) const ELEMENT_TYPES: &[ElementType] = &[
+    SolidKind::C3D8.element_type(|id, nodes, s| SolidKind::C3D8.build(id, nodes, s)),
+    SolidKind::C3D20.element_type(|id, nodes, s| SolidKind::C3D20.build(id, nodes, s)),
+    SolidKind::C3D20R.element_type(|id, nodes, s| SolidKind::C3D20R.build(id, nodes, s)),
+    SolidKind::C3D10.element_type(|id, nodes, s| SolidKind::C3D10.build(id, nodes, s)),
+    SolidKind::C3D4.element_type(|id, nodes, s| SolidKind::C3D4.build(id, nodes, s)),
+    SolidKind::C3D6.element_type(|id, nodes, s| SolidKind::C3D6.build(id, nodes, s)),
+];
+
 /// A solid element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solid {
@@ -156,14 +219,48 @@ pub struct Solid {
     pub material: Material,
 }
 
-impl Solid {
-    pub(crate) fn dofs(&self) -> Vec<Dof> {
-        self.nodes
-            .iter()
-            .flat_map(|&n| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| Dof::new(n, k)))
-            .collect()
+impl ElementBehaviour for Solid {
+    fn id(&self) -> usize {
+        self.id
     }
 
+    fn nodes(&self) -> Vec<NodeId> {
+        self.nodes.clone()
+    }
+
+    fn dofs(&self) -> Vec<Dof> {
+        node_dofs(&self.nodes, &TRANSLATIONS)
+    }
+
+    fn validate(&self, model: &Model) -> Result<(), FemError> {
+        Solid::validate(self, &element_coords(model, &self.nodes))
+    }
+
+    fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
+        Solid::matrices(self, &element_coords(model, &self.nodes))
+    }
+
+    fn has_stresses(&self) -> bool {
+        true
+    }
+
+    /// [`Solid::nodal_stress_columns`] at the element's coordinates.
+    fn stresses(
+        &self,
+        model: &Model,
+        u_e: &[f64],
+        columns: usize,
+    ) -> Result<Option<Vec<[f64; 6]>>, FemError> {
+        let coords = element_coords(model, &self.nodes);
+        self.nodal_stress_columns(&coords, u_e, columns).map(Some)
+    }
+
+    fn vtk_cell(&self) -> Option<VtkCell> {
+        Some(self.kind.vtk_cell())
+    }
+}
+
+impl Solid {
     /// Checks node count, material and geometry: the element must have a
     /// volume above `1e-12` times the cube of its size (bounding-box
     /// diagonal) and a positive Jacobian determinant at every integration
@@ -271,7 +368,7 @@ impl Solid {
             }
         });
         Ok(ElementMatrices {
-            dofs: self.dofs(),
+            dofs: ElementBehaviour::dofs(self),
             stiffness,
             mass,
         })

@@ -69,12 +69,14 @@ const WEDGE6_NODES: [[f64; 3]; 6] = [
 ];
 
 /// Natural coordinates of the element's nodes, in node order.
-pub(super) fn node_coordinates(kind: SolidKind) -> &'static [[f64; 3]] {
+pub(super) const fn node_coordinates(kind: SolidKind) -> &'static [[f64; 3]] {
+    let hex: &'static [[f64; 3]] = &HEX20_NODES;
+    let tet: &'static [[f64; 3]] = &TET10_NODES;
     match kind {
-        SolidKind::C3D8 => &HEX20_NODES[..8],
-        SolidKind::C3D20 | SolidKind::C3D20R => &HEX20_NODES,
-        SolidKind::C3D10 => &TET10_NODES,
-        SolidKind::C3D4 => &TET10_NODES[..4],
+        SolidKind::C3D8 => hex.split_at(8).0,
+        SolidKind::C3D20 | SolidKind::C3D20R => hex,
+        SolidKind::C3D10 => tet,
+        SolidKind::C3D4 => tet.split_at(4).0,
         SolidKind::C3D6 => &WEDGE6_NODES,
     }
 }

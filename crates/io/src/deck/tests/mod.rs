@@ -9,6 +9,7 @@ mod beams;
 mod includes;
 mod keywords;
 mod masses;
+mod registry;
 mod solids;
 
 fn parse(text: &str) -> Result<Deck, InputError> {
