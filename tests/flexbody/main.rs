@@ -19,6 +19,7 @@ mod support;
 mod vehicle;
 
 use flexbody::fem::Substructure;
+use flexbody::linalg::progress::NoProgress;
 use flexbody::reduce::{Method, ReducedBody};
 use flexbody::scenario::{read_model_file, CaseSpec, ModelFile};
 use flexbody::study::reduce_case;
@@ -54,7 +55,7 @@ pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure,
             modes,
             fmax: None,
         },
-        &flexbody::linalg::progress::NoProgress,
+        &NoProgress,
     )
     .unwrap();
     (file, sub, body)

@@ -14,6 +14,8 @@
 //! below the spectrum and, above it, stable enough for the inertia that a
 //! Sturm check needs (the practice of Lanczos codes in FE programs).
 
+use crate::eigen::EigenPairs;
+use crate::lanczos::residuals_of;
 use crate::ldlt::numeric::Input;
 use crate::ldlt::{Inertia, SymbolicLdlt};
 use crate::lower::LowerPattern;
@@ -198,6 +200,23 @@ impl Pencil {
     /// `M X`.
     pub fn mul_mass(&self, x: MatRef<'_, f64>) -> Mat<f64> {
         self.mass_pattern.mul(&self.m, x)
+    }
+
+    /// `K` and `M` in dense storage, for the dense eigen solver.
+    pub(crate) fn to_dense(&self) -> (Mat<f64>, Mat<f64>) {
+        let eye = Mat::<f64>::identity(self.dim(), self.dim());
+        (
+            self.mul_stiffness(eye.as_ref()),
+            self.mul_mass(eye.as_ref()),
+        )
+    }
+
+    /// Each pair's residual `||K x - lambda M x|| / ||K x||`, as
+    /// [`crate::lanczos::residuals`] defines it.
+    pub(crate) fn residuals(&self, pairs: &EigenPairs) -> Vec<f64> {
+        let (x, values) = (pairs.vectors.as_ref(), &pairs.values);
+        let (kx, mx) = (self.mul_stiffness(x), self.mul_mass(x));
+        residuals_of(&kx, &mx, values, x, &self.stiffness_diagonal())
     }
 
     /// The diagonal of `K`.
@@ -463,17 +482,8 @@ mod tests {
             (&m, Ordering::NestedDissection),
             (&consistent, Ordering::NestedDissection),
         ] {
-            let within =
-                Pencil::analyze(&k, m, Some(&keep), ordering, &crate::progress::NoProgress)
-                    .unwrap();
-            let whole = Pencil::analyze(
-                &sub(&k),
-                &sub(m),
-                None,
-                ordering,
-                &crate::progress::NoProgress,
-            )
-            .unwrap();
+            let within = Pencil::analyze(&k, m, Some(&keep), ordering, &NoProgress).unwrap();
+            let whole = Pencil::analyze(&sub(&k), &sub(m), None, ordering, &NoProgress).unwrap();
             let (f, g) = (
                 within.factorize(1.05, &NoProgress).unwrap(),
                 whole.factorize(1.05, &NoProgress).unwrap(),
@@ -487,30 +497,9 @@ mod tests {
                 "{ordering:?}"
             );
         }
-        assert!(Pencil::analyze(
-            &k,
-            &m,
-            Some(&[0, n][..]),
-            Ordering::Amd,
-            &crate::progress::NoProgress
-        )
-        .is_err());
-        assert!(Pencil::analyze(
-            &k,
-            &m,
-            Some(&[3, 3, 5][..]),
-            Ordering::Amd,
-            &crate::progress::NoProgress
-        )
-        .is_err());
-        assert!(Pencil::analyze(
-            &k,
-            &m,
-            Some(&[5, 3][..]),
-            Ordering::Amd,
-            &crate::progress::NoProgress
-        )
-        .is_err());
+        assert!(Pencil::analyze(&k, &m, Some(&[0, n][..]), Ordering::Amd, &NoProgress).is_err());
+        assert!(Pencil::analyze(&k, &m, Some(&[3, 3, 5][..]), Ordering::Amd, &NoProgress).is_err());
+        assert!(Pencil::analyze(&k, &m, Some(&[5, 3][..]), Ordering::Amd, &NoProgress).is_err());
     }
 
     /// On a supernodal factor, `K - sigma M` formed as the factorisation
@@ -538,14 +527,8 @@ mod tests {
             }
             SparseMat::new(sym.to_owned().unwrap(), val)
         };
-        let pencil = Pencil::analyze(
-            &k,
-            &m,
-            None,
-            Ordering::NestedDissection,
-            &crate::progress::NoProgress,
-        )
-        .unwrap();
+        let pencil =
+            Pencil::analyze(&k, &m, None, Ordering::NestedDissection, &NoProgress).unwrap();
         assert!(pencil.symbolic.supernodes().is_some());
         let b = Mat::from_fn(n, 3, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
         let sigma = 40.0;
@@ -558,9 +541,7 @@ mod tests {
 
         let fixed = [0, 1, 2, 700, n - 1];
         let keep: Vec<usize> = (0..n).filter(|i| !fixed.contains(i)).collect();
-        let held = pencil
-            .factorize_static(&fixed, &crate::progress::NoProgress)
-            .unwrap();
+        let held = pencil.factorize_static(&fixed, &NoProgress).unwrap();
         let mut bh = b.clone();
         for &i in &fixed {
             for j in 0..bh.ncols() {
@@ -584,8 +565,7 @@ mod tests {
         let n = 60;
         let (k, m) = chain(n);
         for ordering in [Ordering::Amd, Ordering::NestedDissection] {
-            let pencil =
-                Pencil::analyze(&k, &m, None, ordering, &crate::progress::NoProgress).unwrap();
+            let pencil = Pencil::analyze(&k, &m, None, ordering, &NoProgress).unwrap();
             let sigma = 1.05;
             let f = pencil.factorize(sigma, &NoProgress).unwrap();
             let below = (1..=n)

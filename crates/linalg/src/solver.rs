@@ -15,9 +15,7 @@
 //! [`crate::lanczos::residuals`] defines it) and the work done.
 
 use crate::eigen::{ensure_dense_room, generalized_symmetric, EigenPairs, Wanted};
-use crate::lanczos::{
-    lanczos, lanczos_on, residuals_of, Held, LanczosParams, LanczosStats, SparseEigen,
-};
+use crate::lanczos::{lanczos, lanczos_on, Held, LanczosParams, LanczosStats, SparseEigen};
 use crate::pencil::{Factor, Pencil};
 use crate::progress::Progress;
 use crate::{LinalgError, SparseMat};
@@ -179,22 +177,9 @@ impl Pencil {
         drop(factor);
         dense_limit(n)?;
         ensure_dense_room(n, 2)?;
-        let eye = Mat::<f64>::identity(n, n);
-        let (k, m) = (
-            self.mul_stiffness(eye.as_ref()),
-            self.mul_mass(eye.as_ref()),
-        );
-        drop(eye);
+        let (k, m) = self.to_dense();
         let pairs = wanted_of(dense_all(k, m)?, request.wanted);
-        let kx = self.mul_stiffness(pairs.vectors.as_ref());
-        let mx = self.mul_mass(pairs.vectors.as_ref());
-        let residuals = residuals_of(
-            &kx,
-            &mx,
-            &pairs.values,
-            pairs.vectors.as_ref(),
-            &self.stiffness_diagonal(),
-        );
+        let residuals = self.residuals(&pairs);
         Ok(dense_answer(pairs, residuals))
     }
 }

@@ -2,14 +2,12 @@
 //! goes to [`crate::eigen::generalized_symmetric`] on `K` and `M` formed
 //! from the pencil.
 
-use super::finish::residuals_of;
 use super::run::basis_for;
 use super::LanczosParams;
 use crate::eigen::{EigenPairs, Wanted};
 use crate::pencil::Pencil;
 use crate::progress::{Progress, Stage};
 use crate::LinalgError;
-use faer::Mat;
 
 /// Whether a Lanczos basis for `nev` eigenpairs would fill the `free`
 /// dimensions: a Krylov space that exhausts the space leaves nothing to
@@ -42,10 +40,7 @@ pub(super) fn dense_pairs(
         equations: n,
         wanted: nev,
     });
-    let eye = Mat::<f64>::identity(n, n);
-    let k = pencil.mul_stiffness(eye.as_ref());
-    let m = pencil.mul_mass(eye.as_ref());
-    drop(eye);
+    let (k, m) = pencil.to_dense();
     let all = crate::eigen::generalized_symmetric(k.as_ref(), m.as_ref())?;
     drop((k, m));
     let keep = match wanted {
@@ -60,14 +55,6 @@ pub(super) fn dense_pairs(
     }
     let pairs = all.slice(0, keep);
     drop(all);
-    let kx = pencil.mul_stiffness(pairs.vectors.as_ref());
-    let mx = pencil.mul_mass(pairs.vectors.as_ref());
-    let residuals = residuals_of(
-        &kx,
-        &mx,
-        &pairs.values,
-        pairs.vectors.as_ref(),
-        &pencil.stiffness_diagonal(),
-    );
+    let residuals = pencil.residuals(&pairs);
     Ok((pairs, residuals))
 }

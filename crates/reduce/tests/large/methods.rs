@@ -4,6 +4,7 @@ use crate::models::*;
 use crate::reference;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind};
+use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::sparse;
 use flexbody_reduce::modes::eigen::{eigenmodes_with, Solver, Wanted, SPARSE_FROM};
 use flexbody_reduce::{reduce, Method, Reduction};
@@ -149,7 +150,7 @@ fn free_residual_of_a_supported_body_from_one_factorisation() {
         &mut s.clone(),
         &spec,
         flexbody_reduce::Keep::Neither,
-        &flexbody_linalg::progress::NoProgress,
+        &NoProgress,
     )
     .unwrap();
     assert_eq!(body.r(), 12 + 6);
@@ -247,13 +248,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
         spec.springs = springs;
         let lent = reduce(&s, &spec).unwrap();
         let mut given = s.clone();
-        let body = reduce_keeping(
-            &mut given,
-            &spec,
-            Keep::Neither,
-            &flexbody_linalg::progress::NoProgress,
-        )
-        .unwrap();
+        let body = reduce_keeping(&mut given, &spec, Keep::Neither, &NoProgress).unwrap();
         assert_eq!(given.matrices.stiffness.nrows(), 0, "{method}");
         assert_eq!(given.matrices.mass.nrows(), 0, "{method}");
         assert!(body.basis == lent.basis, "{method}");
@@ -261,13 +256,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
         assert!(body.mass == lent.mass, "{method}");
         // K alone handed over (for the SID's invariants): M stays as it was.
         let mut kept = s.clone();
-        let with_mass = reduce_keeping(
-            &mut kept,
-            &spec,
-            Keep::Mass,
-            &flexbody_linalg::progress::NoProgress,
-        )
-        .unwrap();
+        let with_mass = reduce_keeping(&mut kept, &spec, Keep::Mass, &NoProgress).unwrap();
         assert_eq!(kept.matrices.stiffness.nrows(), 0, "{method}");
         let (m, m0) = (kept.matrices.mass.as_ref(), s.matrices.mass.as_ref());
         assert!(m.col_ptr() == m0.col_ptr() && m.row_idx() == m0.row_idx());
@@ -292,13 +281,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
     for method in [Method::Guyan, Method::ElasticResidual] {
         let mut spec = Reduction::new(method, 0, interface.clone());
         spec.springs = springs_at(&[1, 11, 34, 44], 1e7);
-        let body = reduce_keeping(
-            &mut s.clone(),
-            &spec,
-            Keep::Neither,
-            &flexbody_linalg::progress::NoProgress,
-        )
-        .unwrap();
+        let body = reduce_keeping(&mut s.clone(), &spec, Keep::Neither, &NoProgress).unwrap();
         assert!(
             (&body.basis - &want).norm_max() < 1e-12 * want.norm_max(),
             "{method}"
@@ -310,13 +293,7 @@ fn handing_k_and_m_over_gives_the_same_body() {
     // residual inertia-relief attachment modes alone.
     let mut spec = Reduction::new(Method::FreeResidual, 0, interface);
     spec.max_frequency_hz = Some(1.0);
-    let body = reduce_keeping(
-        &mut s.clone(),
-        &spec,
-        Keep::Neither,
-        &flexbody_linalg::progress::NoProgress,
-    )
-    .unwrap();
+    let body = reduce_keeping(&mut s.clone(), &spec, Keep::Neither, &NoProgress).unwrap();
     assert_eq!(body.r(), 6 + 12);
 }
 
