@@ -202,6 +202,13 @@ impl Pencil {
         self.mass_pattern.mul(&self.m, x)
     }
 
+    /// This pencil with its factorisations under `par`
+    /// ([`SymbolicLdlt::with_parallelism`]); its factors keep it.
+    pub fn with_parallelism(mut self, par: faer::Par) -> Self {
+        self.symbolic = self.symbolic.with_parallelism(par);
+        self
+    }
+
     /// `K` and `M` in dense storage, for the dense eigen solver.
     pub(crate) fn to_dense(&self) -> (Mat<f64>, Mat<f64>) {
         let eye = Mat::<f64>::identity(self.dim(), self.dim());
@@ -538,6 +545,15 @@ mod tests {
         let a = crate::sparse::add_scaled(&k, -sigma, &m).unwrap();
         let r = crate::sparse::symmetric_mul(&a, x.as_ref()) - &b;
         assert!(crate::sparse::max_abs(r.as_ref()) < 1e-10 * crate::sparse::max_abs(b.as_ref()));
+        // On one thread of faer's kernels: the same solution.
+        let serial = pencil.clone().with_parallelism(faer::Par::Seq);
+        assert_eq!(serial.symbolic.parallelism(), faer::Par::Seq);
+        let mut y = b.clone();
+        let g = serial.factorize(sigma, &NoProgress).unwrap();
+        g.solve_in_place(y.as_mut());
+        assert!(
+            crate::sparse::max_abs((&x - &y).as_ref()) < 1e-12 * crate::sparse::max_abs(x.as_ref())
+        );
 
         let fixed = [0, 1, 2, 700, n - 1];
         let keep: Vec<usize> = (0..n).filter(|i| !fixed.contains(i)).collect();

@@ -26,6 +26,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::Par;
 use faer::{Conj, Mat, MatMut, MatRef, Side};
 use numeric::{Input, Panels};
 use std::sync::Arc;
@@ -57,6 +58,10 @@ impl Default for LdltParams {
 pub struct SymbolicLdlt {
     inner: Arc<Analysis>,
     ordering: Ordering,
+    /// faer's parallelism on this analysis
+    /// ([`SymbolicLdlt::with_parallelism`]; all of rayon's threads unless
+    /// set).
+    par: Par,
 }
 
 /// The structure a numeric factorisation fills.
@@ -143,6 +148,7 @@ impl SymbolicLdlt {
                     return Ok(Self {
                         inner: Arc::new(Analysis::Supernodal(supernodal)),
                         ordering,
+                        par: Par::rayon(0),
                     });
                 }
                 None => Some(d),
@@ -166,10 +172,26 @@ impl SymbolicLdlt {
         Ok(Self {
             inner: Arc::new(inner),
             ordering,
+            par: Par::rayon(0),
         })
     }
 
     /// Number of rows of the analysed matrix.
+    /// This analysis with faer's kernels under `par`: the dense work
+    /// inside the largest supernodes, and faer's own factorisation and
+    /// solve of a simplicial analysis. The independent subtrees of the
+    /// elimination tree run on rayon's pool (bounded by running the caller
+    /// in a pool of its own).
+    pub fn with_parallelism(mut self, par: Par) -> Self {
+        self.par = par;
+        self
+    }
+
+    /// The parallelism of this analysis' factorisations and solves.
+    pub fn parallelism(&self) -> Par {
+        self.par
+    }
+
     pub fn dim(&self) -> usize {
         match &*self.inner {
             Analysis::Supernodal(s) => s.supernodes.nrows(),
@@ -226,6 +248,7 @@ impl SymbolicLdlt {
                 supernodes, forward, inverse,
             ))),
             ordering: Ordering::NestedDissection,
+            par: Par::rayon(0),
         }
     }
 
@@ -343,6 +366,7 @@ impl SymbolicLdlt {
             &s.inverse,
             values,
             panels,
+            self.par,
             report,
         )
         .map_err(|index| self.zero_pivot(index))
@@ -375,7 +399,7 @@ impl SymbolicLdlt {
     ) -> Result<(), LinalgError> {
         values.clear();
         values.resize(sym.len_val(), 0.0);
-        let par = faer::get_global_parallelism();
+        let par = self.par;
         let mut mem =
             MemBuffer::try_new(sym.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
                 .map_err(|_| LinalgError::Faer("out of memory in LDL^T".into()))?;
@@ -414,7 +438,7 @@ impl SymbolicLdlt {
                     .solve_in_place(FactorRef::new(&s.supernodes, values), &s.inverse, x);
             }
             Analysis::Simplicial(sym) => {
-                let par = faer::get_global_parallelism();
+                let par = self.par;
                 let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(x.ncols(), par));
                 LdltRef::new(sym, values).solve_in_place_with_conj(
                     Conj::No,

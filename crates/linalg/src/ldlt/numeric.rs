@@ -264,6 +264,7 @@ pub(crate) fn factorize(
     inverse: &[usize],
     values: &mut [f64],
     panels: Panels,
+    par: Par,
     report: &(dyn Fn(f64) + Sync),
 ) -> Result<(), usize> {
     assert_eq!(values.len(), symbolic.len_val());
@@ -273,7 +274,7 @@ pub(crate) fn factorize(
         updates,
         a: &a,
         values: Shared(values.as_mut_ptr()),
-        par: faer::get_global_parallelism(),
+        par,
         panels,
         tally: Tally {
             done: AtomicU64::new(0),
