@@ -10,12 +10,12 @@
 //!   Lanczos solver of [`crate::lanczos`] (one sparse `LDL^T` of
 //!   `K - sigma M`, a Sturm check of the count).
 //!
-//! Either way the answer is a [`SparseEigen`]: the pairs, each pair's
+//! Either way the answer is a [`EigenSolution`]: the pairs, each pair's
 //! residual `||K phi - lambda M phi|| / ||K phi||` (as
 //! [`crate::lanczos::residuals`] defines it) and the work done.
 
 use crate::eigen::{ensure_dense_room, generalized_symmetric, EigenPairs, Wanted};
-use crate::lanczos::{lanczos, lanczos_on, Held, LanczosParams, LanczosStats, SparseEigen};
+use crate::lanczos::{lanczos, lanczos_on, EigenSolution, Held, LanczosParams, LanczosStats};
 use crate::pencil::{Factor, Pencil};
 use crate::progress::Progress;
 use crate::{LinalgError, SparseMat};
@@ -119,7 +119,7 @@ pub fn eigen(
     wanted: Wanted,
     solver: Solver,
     progress: &dyn Progress,
-) -> Result<SparseEigen, LinalgError> {
+) -> Result<EigenSolution, LinalgError> {
     let n = k.nrows();
     if wanted == Wanted::Lowest(0) {
         return Ok(nothing(n));
@@ -155,7 +155,7 @@ impl Pencil {
         factor: Option<Factor>,
         request: &EigenRequest<'_>,
         progress: &dyn Progress,
-    ) -> Result<SparseEigen, LinalgError> {
+    ) -> Result<EigenSolution, LinalgError> {
         let n = self.dim();
         if request.wanted == Wanted::Lowest(0) {
             return Ok(nothing(n));
@@ -185,7 +185,7 @@ impl Pencil {
 }
 
 /// No pairs, for a request of none.
-fn nothing(n: usize) -> SparseEigen {
+fn nothing(n: usize) -> EigenSolution {
     dense_answer(
         EigenPairs {
             values: vec![],
@@ -196,8 +196,8 @@ fn nothing(n: usize) -> SparseEigen {
 }
 
 /// The dense solver's answer: no shift, no Sturm check, no Lanczos run.
-fn dense_answer(pairs: EigenPairs, residuals: Vec<f64>) -> SparseEigen {
-    SparseEigen {
+fn dense_answer(pairs: EigenPairs, residuals: Vec<f64>) -> EigenSolution {
+    EigenSolution {
         pairs,
         residuals,
         shift: 0.0,

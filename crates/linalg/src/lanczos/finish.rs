@@ -5,7 +5,7 @@
 use super::block_qr::dot;
 use super::run::Locked;
 use super::solver::Solver;
-use super::{SparseEigen, SturmReport};
+use super::{EigenSolution, SturmReport};
 use crate::eigen::{EigenPairs, Wanted};
 use crate::pencil::Pencil;
 use crate::progress::Stage;
@@ -18,7 +18,7 @@ impl Solver<'_> {
     /// operator's factor, and returns the wanted pairs: ascending, `M`-
     /// orthonormal, each `lambda` the Rayleigh quotient of its vector, with
     /// its residual (the module docs of [`super`]).
-    pub(super) fn finish(self, sturm: Option<SturmReport>) -> Result<SparseEigen, LinalgError> {
+    pub(super) fn finish(self, sturm: Option<SturmReport>) -> Result<EigenSolution, LinalgError> {
         let Self {
             pencil,
             wanted,
@@ -56,7 +56,7 @@ impl Solver<'_> {
         progress.report(&Stage::Done {
             seconds: started.elapsed().as_secs_f64(),
         });
-        Ok(SparseEigen {
+        Ok(EigenSolution {
             pairs: EigenPairs { values, vectors },
             residuals,
             shift: sigma,

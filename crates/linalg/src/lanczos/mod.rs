@@ -206,9 +206,11 @@ pub struct LanczosStats {
     pub sturm_seconds: f64,
 }
 
-/// The eigenpairs with their residuals and how they were obtained.
+/// The eigenpairs with their residuals and how they were obtained, as
+/// both solvers return them ([`crate::solver`]); the dense solver's has
+/// shift 0, no Sturm check and [`LanczosStats::dense`] set.
 #[derive(Clone, Debug)]
-pub struct SparseEigen {
+pub struct EigenSolution {
     /// Eigenvalues (ascending) and M-orthonormal eigenvectors.
     pub pairs: EigenPairs,
     /// `||K x - lambda M x|| / ||K x||` per mode (see the module docs for the
@@ -230,7 +232,7 @@ pub fn lanczos(
     wanted: Wanted,
     params: &LanczosParams,
     progress: &dyn Progress,
-) -> Result<SparseEigen, LinalgError> {
+) -> Result<EigenSolution, LinalgError> {
     let t = Instant::now();
     let pencil = Pencil::analyze(k, m, None, params.ordering, progress)?;
     let seconds = t.elapsed().as_secs_f64();
@@ -254,7 +256,7 @@ pub fn lanczos_on(
     held: Option<Held<'_>>,
     params: &LanczosParams,
     progress: &dyn Progress,
-) -> Result<SparseEigen, LinalgError> {
+) -> Result<EigenSolution, LinalgError> {
     Solver::new(pencil, factor, wanted, held, params, progress)?.solve()
 }
 

@@ -21,7 +21,7 @@ use super::dense::{dense_pairs, spans_the_space};
 use super::operator::Operator;
 use super::run::{krylov_schur, Locked, Rng, Run, Stalled};
 use super::sturm::{Sturm, STALL_SWEEPS};
-use super::{Held, LanczosParams, LanczosStats, SparseEigen, SturmReport};
+use super::{EigenSolution, Held, LanczosParams, LanczosStats, SturmReport};
 use crate::eigen::{EigenPairs, Wanted};
 use crate::pencil::{Factor, Pencil};
 use crate::progress::{Progress, Stage};
@@ -171,7 +171,7 @@ impl<'a> Solver<'a> {
     }
 
     /// Runs the states from [`State::Count`] to an answer.
-    pub(super) fn solve(mut self) -> Result<SparseEigen, LinalgError> {
+    pub(super) fn solve(mut self) -> Result<EigenSolution, LinalgError> {
         let mut state = State::Count;
         loop {
             state = match state {
@@ -219,7 +219,7 @@ impl<'a> Solver<'a> {
 
     /// The wanted pairs by the dense solver, once the operator's factor is
     /// given up; a band's count goes into the report.
-    fn dense(self) -> Result<SparseEigen, LinalgError> {
+    fn dense(self) -> Result<EigenSolution, LinalgError> {
         let Self {
             pencil,
             wanted,
@@ -240,7 +240,7 @@ impl<'a> Solver<'a> {
             seconds: started.elapsed().as_secs_f64(),
         });
         let keep = pairs.values.len();
-        Ok(SparseEigen {
+        Ok(EigenSolution {
             pairs,
             residuals,
             shift: sigma,
@@ -255,9 +255,9 @@ impl<'a> Solver<'a> {
     }
 
     /// No pairs: a count of 0, or a band without eigenvalues.
-    fn empty(mut self) -> SparseEigen {
+    fn empty(mut self) -> EigenSolution {
         self.op.record(&mut self.stats);
-        SparseEigen {
+        EigenSolution {
             pairs: EigenPairs {
                 values: vec![],
                 vectors: Mat::zeros(self.pencil.dim(), 0),

@@ -105,7 +105,7 @@ fn assert_same(got: &[f64], want: &[f64], tol: f64) {
     }
 }
 
-fn solve(k: &SparseMat, m: &SparseMat, wanted: Wanted, params: &LanczosParams) -> SparseEigen {
+fn solve(k: &SparseMat, m: &SparseMat, wanted: Wanted, params: &LanczosParams) -> EigenSolution {
     lanczos(k, m, wanted, params, &NoProgress).unwrap()
 }
 

@@ -10,7 +10,7 @@
 
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
-use flexbody_linalg::lanczos::SparseEigen;
+use flexbody_linalg::lanczos::EigenSolution;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::progress::{NoProgress, Progress};
@@ -122,7 +122,7 @@ fn solve_on(
     factor: Option<Factor>,
     request: &EigenRequest<'_>,
     progress: &dyn Progress,
-) -> Result<SparseEigen, ReduceError> {
+) -> Result<EigenSolution, ReduceError> {
     available(request.wanted, pencil.dim())?;
     let found = pencil.eigen(factor, request, progress)?;
     available(request.wanted, found.pairs.values.len())?;
