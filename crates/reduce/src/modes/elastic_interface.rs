@@ -23,7 +23,9 @@
 //! `T^T K T = T^T (K + C) T - T^T C T`).
 
 use super::attachment::unit_loads;
-use super::constraint::{constraint_columns, constraint_modes, mechanism_check, mechanism_error};
+use super::constraint::{
+    constraint_columns, constraint_modes_reporting, mechanism_check, mechanism_error,
+};
 use super::eigen::{eigenmodes_on, Wanted};
 use super::{complement, EigenModes, RigidModes};
 use crate::products::{Matrices, Products, Sprung};
@@ -78,7 +80,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     if !on_equations(&springs, boundary) {
         // Springs off the interface: the constraint modes of K on their
         // own factorisation, the eigenmodes on the pencil of K + C.
-        let psi = constraint_modes(matrices.k(), boundary, dof_map, rigid)?;
+        let psi = constraint_modes_reporting(matrices.k(), boundary, dof_map, rigid, progress)?;
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
         let pencil = Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, progress)?;
         drop(supported);
