@@ -39,19 +39,32 @@ pub(crate) fn attachment_modes_on(
     dof_map: &DofMap,
     progress: &dyn Progress,
 ) -> Result<(Mat<f64>, Factor), ReduceError> {
-    let factor = pencil
-        .factorize_static(&[], progress)
-        .map_err(|e| match e {
-            LinalgError::Singular { index, .. } => ReduceError::Singular {
-                what: SUPPORTED_BODY,
-                dof: dof_map.dof(index),
-            },
-            other => other.into(),
-        })?;
+    let factor = static_factor(pencil, &[], SUPPORTED_BODY, dof_map, progress)?;
     progress.report(&Stage::Solves {
         columns: loads.ncols(),
     });
     let mut t_a = loads.clone();
     factor.solve_in_place(t_a.as_mut());
     Ok((t_a, factor))
+}
+
+/// The pencil's factor of `K` held at the `fixed` equations
+/// ([`Pencil::factorize_static`]); a vanishing pivot is
+/// [`ReduceError::Singular`] naming `what` and the DOF.
+pub(crate) fn static_factor(
+    pencil: &Pencil,
+    fixed: &[usize],
+    what: &'static str,
+    dof_map: &DofMap,
+    progress: &dyn Progress,
+) -> Result<Factor, ReduceError> {
+    pencil
+        .factorize_static(fixed, progress)
+        .map_err(|e| match e {
+            LinalgError::Singular { index, .. } => ReduceError::Singular {
+                what,
+                dof: dof_map.dof(index),
+            },
+            other => other.into(),
+        })
 }

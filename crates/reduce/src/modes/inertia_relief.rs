@@ -9,14 +9,15 @@
 //! of one node; never a support that constrains the body, Bild 4b), and the
 //! rigid part removed: `t = G x`, `G = I - T_st T_st^T M` (eq. 20).
 
-use super::{attachment::attachment_modes, rigid::RigidModes};
+use super::attachment::{attachment_modes, static_factor};
+use super::rigid::RigidModes;
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
 use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::{Factor, Pencil};
 use flexbody_linalg::progress::{NoProgress, Progress, Stage};
-use flexbody_linalg::{sparse, LinalgError, SparseMat};
+use flexbody_linalg::{sparse, SparseMat};
 
 /// `P_g = (I - M T_st T_st^T) P_1`: loads in equilibrium with the inertia of
 /// the rigid-body motion they cause.
@@ -146,15 +147,7 @@ pub(crate) fn inertia_relief_on(
     dof_map: &DofMap,
     progress: &dyn Progress,
 ) -> Result<(Mat<f64>, Factor), ReduceError> {
-    let held = pencil
-        .factorize_static(support, progress)
-        .map_err(|e| match e {
-            LinalgError::Singular { index, .. } => ReduceError::Singular {
-                what: SUPPORTED,
-                dof: dof_map.dof(index),
-            },
-            other => other.into(),
-        })?;
+    let held = static_factor(pencil, support, SUPPORTED, dof_map, progress)?;
     progress.report(&Stage::Solves {
         columns: loads.ncols(),
     });
