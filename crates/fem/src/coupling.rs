@@ -454,7 +454,7 @@ mod tests {
                     .unwrap(),
                 0,
             )] = mx;
-            let u = flexbody_linalg::ldlt::Ldlt::factorize(&s.stiffness)
+            let u = flexbody_linalg::ldlt::Factor::of(&s.stiffness)
                 .unwrap()
                 .solve(f.as_ref());
             let u: Vec<f64> = (0..n).map(|i| u[(i, 0)]).collect();

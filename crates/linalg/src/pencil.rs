@@ -17,12 +17,12 @@
 use crate::eigen::EigenPairs;
 use crate::lanczos::residuals_of;
 use crate::ldlt::numeric::Input;
-use crate::ldlt::{Inertia, SymbolicLdlt};
+use crate::ldlt::{Factor, LdltParams, SymbolicLdlt};
 use crate::lower::LowerPattern;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
-use faer::{Mat, MatMut, MatRef};
+use faer::{Mat, MatRef};
 
 /// The pencil `(K, M)`: the lower triangle of `K` on the union pattern of
 /// both, that of `M` on its own pattern of nonzeros (a third of the union
@@ -56,25 +56,6 @@ impl Clone for Spare {
         Self::default()
     }
 }
-
-/// The numeric `LDL^T` of `K - sigma M`.
-#[derive(Clone, Debug)]
-pub struct Factor {
-    symbolic: SymbolicLdlt,
-    values: Vec<f64>,
-    shift: f64,
-    signs: Inertia,
-    /// The first row (elimination order) whose pivot is round-off against
-    /// its diagonal; an error for [`Pencil::factorize_static`], legitimate
-    /// in a shifted, indefinite matrix.
-    tiny_pivot: Option<usize>,
-    /// A factor of `K` with fixed equations ([`Pencil::factorize_static`]).
-    fixed: bool,
-}
-
-/// A pivot at most this fraction of its row's diagonal entry counts as
-/// vanished for [`Pencil::factorize_static`] (as in [`crate::ldlt::LdltParams`]).
-const TINY_PIVOT: f64 = 1e-11;
 
 impl Pencil {
     /// Copies the lower triangles of the symmetric `k` and `m` onto their
@@ -151,8 +132,8 @@ impl Pencil {
         // Then it touches storage for the first factor until the ordering
         // is done: room for 16 entries of L per entry of K's lower triangle
         // (10 at 3e5 DOFs of the C3D8 beam), 4 of them touched at most (so
-        // that the memory in use stays below the Lanczos run's). At 3e5
-        // DOFs that takes the first factorisation from 1.2 to 1.0 s.
+        // that the memory in use stays below the Lanczos run's): the first
+        // factorisation then finds that much of its storage in memory.
         let ordered = std::sync::atomic::AtomicBool::new(false);
         let (permutation, ((pattern, kv, mass_pattern, mv), spare)) = rayon::join(
             || {
@@ -314,15 +295,12 @@ impl Pencil {
             }
             mask
         });
-        let mut f = self.factorize_values(0.0, mask.as_deref(), Vec::new(), progress)?;
-        if let Some(row) = f.tiny_pivot {
-            return Err(LinalgError::Singular {
-                index: row,
-                pivot: 0.0,
-                diagonal: 0.0,
-            });
+        let mut f = self
+            .factorize_values(0.0, mask.as_deref(), Vec::new(), progress)?
+            .regular()?;
+        if mask.is_some() {
+            f = f.with_fixed();
         }
-        f.fixed = mask.is_some();
         progress.report(&Stage::Factorized {
             shift: 0.0,
             seconds: t.elapsed().as_secs_f64(),
@@ -354,80 +332,17 @@ impl Pencil {
             sigma,
             fixed,
         };
-        let result = self
+        let factored = self
             .symbolic
             .factorize_input_into(input, &mut values, resident, progress);
-        if let Err(LinalgError::Singular { index, .. }) = result {
-            return Err(LinalgError::Singular {
-                index: self.symbolic.forward()[index],
-                pivot: 0.0,
-                diagonal: 0.0,
-            });
-        }
-        result?;
-        let mut signs = Inertia {
-            negative: 0,
-            zero: 0,
-            positive: 0,
-        };
-        let forward = self.symbolic.forward();
-        let mut tiny_pivot = None;
-        for (i, d) in self
-            .symbolic
-            .permuted_pivots(&values)
-            .into_iter()
-            .enumerate()
-        {
-            let row = forward[i];
-            if tiny_pivot.is_none() && d.abs() <= TINY_PIVOT * diagonal[row].abs() {
-                tiny_pivot = Some(row);
-            }
-            if d < 0.0 {
-                signs.negative += 1;
-            } else if d > 0.0 {
-                signs.positive += 1;
-            } else {
-                signs.zero += 1;
-            }
-        }
-        Ok(Factor {
-            symbolic: self.symbolic.clone(),
+        Factor::scanned(
+            &self.symbolic,
+            factored,
             values,
-            shift: sigma,
-            signs,
-            tiny_pivot,
-            fixed: false,
-        })
-    }
-}
-
-impl Factor {
-    /// The shift `sigma` of this factorisation.
-    pub fn shift(&self) -> f64 {
-        self.shift
-    }
-
-    /// Signs of the pivots: `negative` eigenvalues lie below the shift.
-    pub fn inertia(&self) -> Inertia {
-        self.signs
-    }
-
-    /// Solves `(K - sigma M) X = B` in place for a block of right-hand sides
-    /// (one sweep through `L` for the whole block, in parallel over the
-    /// elimination tree).
-    pub fn solve_in_place(&self, x: MatMut<'_, f64>) {
-        self.symbolic.solve_in_place(&self.values, x);
-    }
-
-    /// Whether this factors `K` with fixed equations rather than
-    /// `K - sigma M` ([`Pencil::factorize_static`]).
-    pub fn is_fixed(&self) -> bool {
-        self.fixed
-    }
-
-    /// The factor's storage, for [`Pencil::refactorize`].
-    pub fn into_storage(self) -> Vec<f64> {
-        self.values
+            sigma,
+            &diagonal,
+            LdltParams::default(),
+        )
     }
 }
 

@@ -16,7 +16,8 @@
 
 use crate::eigen::{ensure_dense_room, generalized_symmetric, EigenPairs, Wanted};
 use crate::lanczos::{lanczos, lanczos_on, EigenSolution, Held, LanczosParams, LanczosStats};
-use crate::pencil::{Factor, Pencil};
+use crate::ldlt::Factor;
+use crate::pencil::Pencil;
 use crate::progress::Progress;
 use crate::{LinalgError, SparseMat};
 use faer::Mat;

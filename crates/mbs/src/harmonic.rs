@@ -134,7 +134,7 @@ mod tests {
     use crate::{Connection, Endpoint, ForceLaw, RigidBody, Track};
     use faer::Mat;
     use flexbody_fem::DofKind;
-    use flexbody_linalg::ldlt::Ldlt;
+    use flexbody_linalg::ldlt::Factor;
     use flexbody_linalg::SparseMat;
 
     /// `K - Omega^2 M` of a fixed-free chain of 60 unit springs and masses,
@@ -176,7 +176,7 @@ mod tests {
         let n = a.nrows();
         // The LDL^T exists without pivoting here: its 5 negative pivots are
         // the eigenvalues below Omega^2 (Sylvester).
-        let f = Ldlt::factorize(&a).unwrap();
+        let f = Factor::of(&a).unwrap();
         assert_eq!(f.inertia().negative, 5);
         let f_re: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
         let f_im: Vec<f64> = (0..n).map(|i| (i as f64 * 0.11).cos()).collect();
@@ -206,7 +206,7 @@ mod tests {
         }
         let sym = sparse::from_triplets(2 * n, 2 * n, &sym).unwrap();
         let plain = sparse::from_triplets(2 * n, 2 * n, &plain).unwrap();
-        assert!(Ldlt::factorize(&sym).is_ok());
+        assert!(Factor::of(&sym).is_ok());
         let rhs: Vec<f64> = f_re
             .iter()
             .copied()
@@ -225,7 +225,7 @@ mod tests {
         // [0 1; 1 0]: no LDL^T without pivoting, the LU swaps the rows.
         let a = sparse::from_triplets(2, 2, &[Triplet::new(0, 1, 1.0), Triplet::new(1, 0, 1.0)])
             .unwrap();
-        assert!(Ldlt::factorize(&a).is_err());
+        assert!(Factor::of(&a).is_err());
         let x = solve(&a, &[vec![3.0, 5.0]], 1.0).unwrap();
         assert_eq!(x, vec![vec![5.0, 3.0]]);
         // Singular: an error naming the frequency, not a wrong answer.

@@ -12,13 +12,13 @@ use crate::MbsError;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::Lu;
 use faer::{Mat, MatRef};
-use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::ldlt;
 use flexbody_linalg::SparseMat;
 
 /// A factorisation for repeated solves with one matrix.
 pub(crate) enum Factor {
     /// The symmetric `LDL^T` without pivoting.
-    Symmetric(Ldlt),
+    Symmetric(ldlt::Factor),
     /// faer's sparse LU with pivoting.
     General(Box<Lu<usize, f64>>),
 }
@@ -29,7 +29,7 @@ impl Factor {
     /// there: only one triangle is read); else its LU. A singular `a` is
     /// an error at `omega` (rad/s).
     pub(crate) fn new(a: &SparseMat, omega: f64) -> Result<Self, MbsError> {
-        if let Ok(f) = Ldlt::factorize(a) {
+        if let Ok(f) = ldlt::Factor::of(a) {
             let z = Mat::from_fn(a.nrows(), 1, |i, _| 1.0 + (i % 7) as f64);
             let rhs = a * &z;
             if accurate(a, &f.solve(rhs.as_ref()), &rhs) {
@@ -54,7 +54,7 @@ impl Factor {
 /// by the LU.
 pub(crate) fn solve(a: &SparseMat, b: &[Vec<f64>], omega: f64) -> Result<Vec<Vec<f64>>, MbsError> {
     let rhs = Mat::from_fn(a.nrows(), b.len(), |i, j| b[j][i]);
-    let by_ldlt = Ldlt::factorize(a)
+    let by_ldlt = ldlt::Factor::of(a)
         .ok()
         .map(|f| f.solve(rhs.as_ref()))
         .filter(|x| accurate(a, x, &rhs));

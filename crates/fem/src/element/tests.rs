@@ -183,7 +183,7 @@ fn tip_deflection(model: &Model, tip: Dof, load: f64) -> f64 {
     let i = model.dof_map().index_of(tip).unwrap();
     let mut f = Mat::<f64>::zeros(n, 1);
     f[(i, 0)] = load;
-    let ldlt = flexbody_linalg::ldlt::Ldlt::factorize(&s.stiffness).unwrap();
+    let ldlt = flexbody_linalg::ldlt::Factor::of(&s.stiffness).unwrap();
     ldlt.solve(f.as_ref())[(i, 0)]
 }
 

@@ -90,8 +90,9 @@ mod sturm;
 
 use crate::eigen::EigenPairs;
 use crate::eigen::Wanted;
+use crate::ldlt::Factor;
 use crate::ordering::Ordering;
-use crate::pencil::{Factor, Pencil};
+use crate::pencil::Pencil;
 use crate::progress::Progress;
 use crate::sparse::symmetric_mul;
 use crate::{LinalgError, SparseMat};

@@ -6,7 +6,8 @@
 
 use super::run::basis_shape;
 use super::{Held, LanczosParams, LanczosStats};
-use crate::pencil::{Factor, Pencil};
+use crate::ldlt::Factor;
+use crate::pencil::Pencil;
 use crate::progress::{Progress, Stage};
 use crate::tall;
 use crate::LinalgError;

@@ -12,6 +12,7 @@
 //! over the elimination tree) and `solve` (block solves, in parallel over
 //! the same tree).
 
+mod factor;
 pub(crate) mod numeric;
 pub(crate) mod solve;
 pub(crate) mod symbolic;
@@ -27,11 +28,13 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::Par;
-use faer::{Conj, Mat, MatMut, MatRef, Side};
+use faer::{Conj, MatMut, Side};
 use numeric::{Input, Panels};
 use std::sync::Arc;
 use symbolic::{FactorRef, Supernodes};
 use symbolic::{SolvePlan, UpdatePlan};
+
+pub use factor::{Factor, Inertia};
 
 /// Tuning of the numeric factorisation.
 #[derive(Copy, Clone, Debug)]
@@ -501,202 +504,4 @@ pub(crate) fn faer_analysis(
 fn reported_to<'a>(s: &Supernodal, progress: &'a dyn Progress) -> impl Fn(f64) + Sync + 'a {
     let flops = s.supernodes.flops();
     move |done| progress.report(&Stage::Factoring { done, flops })
-}
-
-/// Counts of negative, zero and positive pivots: by Sylvester's law of inertia
-/// the counts of eigenvalues of `A` below, at and above zero. For
-/// `A = K - sigma M` (M positive definite), the negative count is the number
-/// of eigenvalues of `K phi = lambda M phi` below `sigma` (the Sturm count).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub struct Inertia {
-    pub negative: usize,
-    pub zero: usize,
-    pub positive: usize,
-}
-
-/// Numeric `LDL^T` factorisation of a symmetric (possibly indefinite) sparse
-/// matrix.
-#[derive(Clone, Debug)]
-pub struct Ldlt {
-    symbolic: SymbolicLdlt,
-    values: Vec<f64>,
-    /// `D`, in the original row order.
-    pivots: Vec<f64>,
-}
-
-impl Ldlt {
-    /// Analyses and factorises `a` with default parameters; fails with
-    /// [`LinalgError::Singular`] if a pivot vanishes. Unreported: the
-    /// factorisations of large models, which a user waits for, are the
-    /// pencil's ([`crate::pencil::Pencil`]).
-    pub fn factorize(a: &SparseMat) -> Result<Self, LinalgError> {
-        let symbolic = SymbolicLdlt::analyze(a)?;
-        Self::factorize_with(&symbolic, a, LdltParams::default())
-    }
-
-    /// Factorises `a`, whose pattern `symbolic` was computed from.
-    pub fn factorize_with(
-        symbolic: &SymbolicLdlt,
-        a: &SparseMat,
-        params: LdltParams,
-    ) -> Result<Self, LinalgError> {
-        let n = a.nrows();
-        if a.ncols() != n || symbolic.dim() != n {
-            return Err(LinalgError::Dimension(format!(
-                "LDL^T of a {}x{} matrix with a symbolic analysis of size {}",
-                n,
-                a.ncols(),
-                symbolic.dim()
-            )));
-        }
-        let diag = crate::sparse::diagonal(a);
-        let fwd = symbolic.forward();
-        let mut values = Vec::new();
-        match symbolic.factorize_into(a.as_ref(), &mut values) {
-            Err(LinalgError::Singular { index, .. }) => {
-                let row = fwd[index];
-                return Err(LinalgError::Singular {
-                    index: row,
-                    pivot: 0.0,
-                    diagonal: diag[row],
-                });
-            }
-            Err(e) => return Err(e),
-            Ok(()) => {}
-        }
-        let permuted = symbolic.permuted_pivots(&values);
-        let mut pivots = vec![0.0; n];
-        for (i, d) in permuted.iter().enumerate() {
-            pivots[fwd[i]] = *d;
-        }
-        // Report the first vanishing pivot in elimination order: the later
-        // ones are polluted by it.
-        // A zero diagonal is legitimate in an indefinite matrix (K - sigma M);
-        // measure such a pivot against the largest diagonal entry instead.
-        let max_diag = diag.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        for (i, d) in permuted.iter().enumerate() {
-            let row = fwd[i];
-            let scale = if diag[row] != 0.0 {
-                diag[row].abs()
-            } else {
-                max_diag
-            };
-            if !d.is_finite() || d.abs() <= params.singularity_tolerance * scale {
-                return Err(LinalgError::Singular {
-                    index: row,
-                    pivot: *d,
-                    diagonal: diag[row],
-                });
-            }
-        }
-        Ok(Self {
-            symbolic: symbolic.clone(),
-            values,
-            pivots,
-        })
-    }
-
-    /// Dimension of the factorised matrix.
-    pub fn dim(&self) -> usize {
-        self.pivots.len()
-    }
-
-    /// The pivots `D` of `A = L D L^T`, in the original row order.
-    pub fn pivots(&self) -> &[f64] {
-        &self.pivots
-    }
-
-    /// Inertia of the factorised matrix (signs of the pivots).
-    pub fn inertia(&self) -> Inertia {
-        let mut inertia = Inertia {
-            negative: 0,
-            zero: 0,
-            positive: 0,
-        };
-        for d in &self.pivots {
-            if *d < 0.0 {
-                inertia.negative += 1;
-            } else if *d > 0.0 {
-                inertia.positive += 1;
-            } else {
-                inertia.zero += 1;
-            }
-        }
-        inertia
-    }
-
-    /// Solves `A X = B` for a block of right-hand sides.
-    pub fn solve(&self, rhs: MatRef<'_, f64>) -> Mat<f64> {
-        let mut x = rhs.to_owned();
-        self.solve_in_place(&mut x);
-        x
-    }
-
-    /// Solves `A X = B` in place, `x` holding `B` on entry.
-    pub fn solve_in_place(&self, x: &mut Mat<f64>) {
-        assert_eq!(
-            x.nrows(),
-            self.dim(),
-            "right-hand side has the wrong length"
-        );
-        self.symbolic.solve_in_place(&self.values, x.as_mut());
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::sparse::from_triplets;
-    use faer::sparse::Triplet;
-
-    /// Tridiagonal `[-1 2 -1]` chain of `n` springs, fixed at one end when
-    /// `fixed` (else free: singular).
-    fn chain(n: usize, fixed: bool, shift: f64) -> SparseMat {
-        let mut t = Vec::new();
-        for i in 0..n {
-            let first_free = i == 0 && !fixed;
-            let d = if first_free || i == n - 1 { 1.0 } else { 2.0 };
-            t.push(Triplet::new(i, i, d - shift));
-            if i + 1 < n {
-                t.push(Triplet::new(i, i + 1, -1.0));
-                t.push(Triplet::new(i + 1, i, -1.0));
-            }
-        }
-        from_triplets(n, n, &t).unwrap()
-    }
-
-    #[test]
-    fn solves_a_block_of_right_hand_sides() {
-        let a = chain(50, true, 0.0);
-        let f = Ldlt::factorize(&a).unwrap();
-        let b = Mat::from_fn(50, 3, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
-        let x = f.solve(b.as_ref());
-        let r = &a * &x - &b;
-        assert!(crate::sparse::max_abs(r.as_ref()) < 1e-10);
-        assert_eq!(f.inertia().positive, 50);
-    }
-
-    #[test]
-    fn free_chain_is_singular() {
-        let a = chain(30, false, 0.0);
-        match Ldlt::factorize(&a) {
-            Err(LinalgError::Singular { index, .. }) => assert!(index < 30),
-            other => panic!("expected a singular matrix, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn inertia_counts_eigenvalues_below_a_shift() {
-        // Eigenvalues of the fixed-free chain: 2 - 2 cos((2k-1) pi / (2n+1)).
-        let n = 40;
-        let sigma = 1.05; // not an eigenvalue (1.0 is one, for k = 14)
-        let below = (1..=n)
-            .filter(|k| {
-                2.0 - 2.0 * (((2 * k - 1) as f64) * std::f64::consts::PI / (2 * n + 1) as f64).cos()
-                    < sigma
-            })
-            .count();
-        let f = Ldlt::factorize(&chain(n, true, sigma)).unwrap();
-        assert_eq!(f.inertia().negative, below);
-    }
 }

@@ -4,8 +4,9 @@
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
+use flexbody_linalg::ldlt::Factor;
 use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::pencil::{Factor, Pencil};
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 

@@ -11,8 +11,9 @@
 use crate::products::{Matrices, Products};
 use crate::ReduceError;
 use flexbody_linalg::lanczos::EigenSolution;
+use flexbody_linalg::ldlt::Factor;
 use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::pencil::{Factor, Pencil};
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::solver::{eigen, EigenRequest};
 use flexbody_linalg::SparseMat;

@@ -14,8 +14,9 @@ use super::rigid::RigidModes;
 use crate::ReduceError;
 use faer::{Mat, MatRef};
 use flexbody_fem::DofMap;
+use flexbody_linalg::ldlt::Factor;
 use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::pencil::{Factor, Pencil};
+use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::{sparse, SparseMat};
 

@@ -12,7 +12,7 @@ use crate::model::{Model, Node, NodeId};
 use crate::{assemble, SystemMatrices};
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
-use flexbody_linalg::ldlt::Ldlt;
+use flexbody_linalg::ldlt::Factor;
 use flexbody_linalg::SparseMat;
 use std::collections::{BTreeMap, HashMap};
 
@@ -141,7 +141,7 @@ fn c3d20_cantilever_20x4x4_tip_deflection_and_first_frequency() {
     let SystemMatrices {
         stiffness, mass, ..
     } = assemble(&model).unwrap();
-    let ldlt = Ldlt::factorize(&stiffness).unwrap();
+    let ldlt = Factor::of(&stiffness).unwrap();
 
     // Static: work-conjugate tip deflection f^T u / P.
     let p = 1000.0;
