@@ -6,8 +6,8 @@
 //! plane (v, rz = dv/dx). Local DOF order per node: ux uy uz rx ry rz.
 
 use super::{
-    axis, bending, congruence, mat_vec, node_dofs, Element, ElementBehaviour, ElementMatrices,
-    ElementType, SectionForces, SectionKind, SectionValues, VtkCell,
+    axis, bending, congruence, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, ElementType,
+    SectionForces, SectionKind, SectionValues, VtkCell,
 };
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
@@ -29,7 +29,7 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
                 orientation,
             },
             &[a, b],
-        ) => Ok(Element::Beam(Beam {
+        ) => Ok(Beam {
             id,
             nodes: [a, b],
             properties: BeamProperties::new(
@@ -38,7 +38,8 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
                 BeamTheory::Timoshenko,
             ),
             orientation: *orientation,
-        })),
+        }
+        .into()),
         _ => Err(super::registry::wrong_section("B31", id, section)),
     },
 }];

@@ -2,8 +2,8 @@
 //! end forces of report eq. 25 (`s_e = K_e u_e + M_e u_e''`).
 //!
 //! An element type is one file here that implements [`ElementBehaviour`],
-//! registered once, in this file: its variant in [`Element`] (with its arm
-//! in [`Element::behaviour`]) and, if decks name it, its table of
+//! registered once, in this file: its line in `element_kinds!` (which
+//! declares [`Element`]) and, if decks name it, its table of
 //! [`ElementType`]s in [`ELEMENT_TYPES`]. The assembler, the deck reader,
 //! recovery and the VTK writer use elements only through these;
 //! `docs/elements.md` walks through adding one.
@@ -31,10 +31,37 @@ use crate::FemError;
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 
-/// The element kinds flexbody assembles: one variant per type that
-/// implements [`ElementBehaviour`].
-#[derive(Clone, Debug, PartialEq)]
-pub enum Element {
+/// Declares [`Element`] from one line per element type (`Variant(Type)`,
+/// the type implementing [`ElementBehaviour`]): the enum, its
+/// [`Element::behaviour`] and a `From` of each type.
+macro_rules! element_kinds {
+    ($($(#[$doc:meta])* $variant:ident($ty:ty),)+) => {
+        /// The element kinds flexbody assembles: one variant per type that
+        /// implements [`ElementBehaviour`].
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Element {
+            $($(#[$doc])* $variant($ty),)+
+        }
+
+        impl Element {
+            /// The element as its type's [`ElementBehaviour`].
+            pub fn behaviour(&self) -> &dyn ElementBehaviour {
+                match self {
+                    $(Element::$variant(e) => e,)+
+                }
+            }
+        }
+
+        $(impl From<$ty> for Element {
+            fn from(e: $ty) -> Self {
+                Element::$variant(e)
+            }
+        })+
+    };
+}
+
+// The registration: one line per element type.
+element_kinds! {
     /// Planar Euler-Bernoulli beam along x, bending in the x-z plane (uz, ry).
     PlanarBeam(PlanarBeam),
     /// 3D beam, 6 DOFs per node, Euler-Bernoulli or Timoshenko.
@@ -80,19 +107,6 @@ impl SectionForces {
 }
 
 impl Element {
-    /// The element as its type's [`ElementBehaviour`]: the one place that
-    /// lists the variants.
-    pub fn behaviour(&self) -> &dyn ElementBehaviour {
-        match self {
-            Element::PlanarBeam(e) => e,
-            Element::Beam(e) => e,
-            Element::PointMass(e) => e,
-            Element::Spring(e) => e,
-            Element::AxialSpring(e) => e,
-            Element::Solid(e) => e,
-        }
-    }
-
     /// Element number (user id).
     pub fn id(&self) -> usize {
         self.behaviour().id()

@@ -1,7 +1,7 @@
 //! Point mass with rotary inertia, on the DOFs its node has.
 
 use super::VtkCell;
-use super::{Element, ElementBehaviour, ElementMatrices, ElementType, SectionKind, SectionValues};
+use super::{ElementBehaviour, ElementMatrices, ElementType, SectionKind, SectionValues};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::FemError;
@@ -14,12 +14,13 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
     section: SectionKind::Mass,
     reference_nodes: &[[0.0, 0.0, 0.0]],
     build: |id, nodes, section| match (section, nodes) {
-        (SectionValues::Mass { mass }, &[node]) => Ok(Element::PointMass(PointMass {
+        (SectionValues::Mass { mass }, &[node]) => Ok(PointMass {
             id,
             node,
             mass: *mass,
             inertia: [0.0; 6],
-        })),
+        }
+        .into()),
         _ => Err(super::registry::wrong_section("MASS", id, section)),
     },
 }];

@@ -20,13 +20,12 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[
         section: SectionKind::Spring { dofs: 0 },
         reference_nodes: &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
         build: |id, nodes, section| match (section, nodes) {
-            (SectionValues::Spring { stiffness, .. }, &[a, b]) => {
-                Ok(Element::AxialSpring(AxialSpring {
-                    id,
-                    nodes: [a, b],
-                    stiffness: *stiffness,
-                }))
+            (SectionValues::Spring { stiffness, .. }, &[a, b]) => Ok(AxialSpring {
+                id,
+                nodes: [a, b],
+                stiffness: *stiffness,
             }
+            .into()),
             _ => Err(wrong_section("SPRINGA", id, section)),
         },
     },
@@ -69,12 +68,13 @@ fn scalar_spring(
     } else {
         None
     };
-    Ok(Element::Spring(Spring {
+    Ok(Spring {
         id,
         first,
         second,
         stiffness: *stiffness,
-    }))
+    }
+    .into())
 }
 
 /// Spring of stiffness `stiffness` (N/m, or N m/rad on rotations).

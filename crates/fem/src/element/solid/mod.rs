@@ -157,12 +157,13 @@ impl SolidKind {
         section: &SectionValues,
     ) -> Result<Element, FemError> {
         match section {
-            SectionValues::Solid { material } => Ok(Element::Solid(Solid {
+            SectionValues::Solid { material } => Ok(Solid {
                 id,
                 kind: self,
                 nodes: nodes.to_vec(),
                 material: material.clone(),
-            })),
+            }
+            .into()),
             _ => Err(super::registry::wrong_section(self.name(), id, section)),
         }
     }
