@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::Progress;
 use flexbody::output_folder::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
@@ -220,7 +221,6 @@ fn main() -> ExitCode {
     let start = std::time::Instant::now();
     let cli = Cli::parse();
     let progress = stage_log::install(cli.verbose, start);
-    flexbody::linalg::memory::set_limit(cli.max_memory);
     let result = run(cli, &*progress);
     // The terminal display is cleared before an error is printed.
     drop(progress);
@@ -234,13 +234,14 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
+    let budget = Budget::at_most(cli.max_memory);
     match cli.command {
         Command::Study {
             model,
             json,
             out,
             no_plots,
-        } => run_study(&model, json, out, no_plots, progress),
+        } => run_study(&model, json, out, no_plots, budget, progress),
         Command::Reduce {
             model,
             interface,
@@ -263,6 +264,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             (&out, format, vtu.as_deref()),
             orthonormalize,
             (json, check),
+            budget,
             progress,
         ),
         Command::Modes {
@@ -278,19 +280,21 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
                 None if count == 0 => anyhow::bail!("--count must be at least 1"),
                 None => red::modes::Wanted::Lowest(count),
             };
-            run_modes(&model, &matrices, band, json, progress)
+            run_modes(&model, &matrices, band, json, budget, progress)
         }
         Command::Info {
             model,
             matrices,
             factor,
-        } => run_info(&model, &matrices, factor),
+        } => run_info(&model, &matrices, factor, budget),
         Command::Inspect { body } => {
             say!("{}", export::read_any(&body)?.summary());
             Ok(())
         }
-        Command::Simulate { model, out, full } => run_simulate(&model, &out, full, progress),
-        Command::Frf { model, out, full } => run_frf(&model, &out, full, progress),
+        Command::Simulate { model, out, full } => {
+            run_simulate(&model, &out, full, budget, progress)
+        }
+        Command::Frf { model, out, full } => run_frf(&model, &out, full, budget, progress),
     }
 }
 
@@ -299,6 +303,7 @@ fn run_study(
     json: bool,
     out: Option<PathBuf>,
     no_plots: bool,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
     let dir = (!no_plots).then(|| {
@@ -311,7 +316,7 @@ fn run_study(
     });
     let file = scenario::read_model_file(model)?;
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
-    let result = study::run_study(&file, progress)?;
+    let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
         plot::plot_study(dir, &result).map_err(anyhow::Error::msg)?;
     }
@@ -351,6 +356,7 @@ fn run_reduce(
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
     (json, check): (bool, Check),
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
     // A wrong output path fails now, not after the reduction.
@@ -377,6 +383,7 @@ fn run_reduce(
     };
     spec.max_frequency_hz = fmax;
     spec.orthonormalize = orthonormalize;
+    spec.memory = budget;
     let compare = check.compares(c.sub.len());
     // K and M are needed after the reduction only by the comparison, and
     // M by the SID's invariants; the solver drops what is not.
@@ -393,7 +400,7 @@ fn run_reduce(
         body.r(),
         out.display()
     ));
-    let comparison = report::compare_frequencies(&c.sub, &body, compare, progress)?;
+    let comparison = report::compare_frequencies(&c.sub, &body, compare, budget, progress)?;
     let (full_hz, reduced_hz) = (&comparison.full_hz, &comparison.reduced_hz);
     let metadata = output::index_metadata(&comparison);
     let files = output::body_output(&c.sub, c.model.as_ref(), &body, format, metadata)?;
@@ -444,9 +451,10 @@ fn run_modes(
     matrices: &MatrixArgs,
     band: red::modes::Wanted,
     json: bool,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let modes = report::natural_frequencies(load(model, matrices)?, band, progress)?;
+    let modes = report::natural_frequencies(load(model, matrices)?, band, budget, progress)?;
     if let Some(mechanism) = &modes.mechanism {
         eprintln!("warning: {}: {mechanism}", model.display());
     }
@@ -464,7 +472,7 @@ fn run_modes(
     Ok(())
 }
 
-fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
+fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool, budget: Budget) -> Result<()> {
     let start = std::time::Instant::now();
     let c = load(model, matrices)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -494,7 +502,7 @@ fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool) -> Result<()> {
     if factor {
         use flexbody::linalg::memory;
         say!("{}", report::factor_size(&c.sub)?);
-        if let Some(room) = memory::room() {
+        if let Some(room) = budget.room() {
             say!(
                 "memory left: {} ({})",
                 memory::bytes_text(room.bytes),
@@ -518,15 +526,29 @@ fn vehicle(
     model: &Path,
     out: &Path,
     full: bool,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read(model)?;
     let folder = OutputFolder::make(out)?;
-    Ok((if full { v } else { v.reduced(progress)? }, folder))
+    Ok((
+        if full {
+            v
+        } else {
+            v.reduced(budget, progress)?
+        },
+        folder,
+    ))
 }
 
-fn run_simulate(model: &Path, out: &Path, full: bool, progress: &dyn Progress) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, progress)?;
+fn run_simulate(
+    model: &Path,
+    out: &Path,
+    full: bool,
+    budget: Budget,
+    progress: &dyn Progress,
+) -> Result<()> {
+    let (v, folder) = vehicle(model, out, full, budget, progress)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
@@ -546,8 +568,14 @@ fn run_simulate(model: &Path, out: &Path, full: bool, progress: &dyn Progress) -
     Ok(())
 }
 
-fn run_frf(model: &Path, out: &Path, full: bool, progress: &dyn Progress) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, progress)?;
+fn run_frf(
+    model: &Path,
+    out: &Path,
+    full: bool,
+    budget: Budget,
+    progress: &dyn Progress,
+) -> Result<()> {
+    let (v, folder) = vehicle(model, out, full, budget, progress)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;

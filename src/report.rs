@@ -8,6 +8,7 @@
 
 use crate::fem::{DofKind, Substructure, Support};
 use crate::input::Component;
+use crate::linalg::memory::Budget;
 use crate::linalg::progress::Progress;
 use crate::linalg::solver::{eigen, Solver};
 use crate::linalg::{memory, ordering::Ordering, pencil::Pencil, LinalgError};
@@ -121,11 +122,13 @@ pub struct NaturalFrequencies {
 }
 
 /// The modes of `component` in `band` (a count beyond the model's DOFs is
-/// cut to them). The component is consumed: its `K` and `M` go to the
-/// solver, which drops them once it holds its compact copy.
+/// cut to them), within the memory `budget` leaves. The component is
+/// consumed: its `K` and `M` go to the solver, which drops them once it
+/// holds its compact copy.
 pub fn natural_frequencies(
     component: Component,
     band: Wanted,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<NaturalFrequencies, ReduceError> {
     let dofs = component.sub.len();
@@ -143,7 +146,8 @@ pub fn natural_frequencies(
     };
     let matrices = component.into_matrices();
     crate::linalg::memory::release_free_memory();
-    let (modes, residuals) = eigenmodes_owned(matrices.stiffness, matrices.mass, band, progress)?;
+    let (modes, residuals) =
+        eigenmodes_owned(matrices.stiffness, matrices.mass, band, budget, progress)?;
     Ok(NaturalFrequencies {
         dofs,
         frequencies_hz: modes.frequencies_hz(),
@@ -210,18 +214,19 @@ impl FrequencyComparison {
 
 /// The frequencies of `body`, with the full model's lowest `r` from one
 /// more eigen solve of `sub` when `compare` (which needs `sub`'s stiffness
-/// and mass).
+/// and mass), within the memory `budget` leaves.
 pub fn compare_frequencies(
     sub: &Substructure,
     body: &ReducedBody,
     compare: bool,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<FrequencyComparison, ReduceError> {
     let reduced_hz = body.frequencies_hz()?;
     let full_hz = if compare {
         let count = body.r().min(sub.len());
         let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
-        let found = eigen(k, m, Wanted::Lowest(count), Solver::Auto, progress)?;
+        let found = eigen(k, m, Wanted::Lowest(count), Solver::Auto, budget, progress)?;
         Some(found.pairs.frequencies_hz())
     } else {
         None

@@ -5,6 +5,7 @@
 //! Ritz coordinates by eq. 25 with `q''`.
 
 use crate::fem::{Element, FemError, Substructure};
+use crate::linalg::memory::Budget;
 use crate::linalg::progress::Progress;
 use crate::mbs::time::{simulate, TimeResponse};
 use crate::mbs::{damped_modes, harmonic_response, DampedMode, FlexibleBody, MbsError, System};
@@ -105,12 +106,19 @@ impl Vehicle {
 
     /// The vehicle with the flexible body its `[simulation]` table names:
     /// reduced as it says, or read from a reduced-body file.
-    pub fn reduced(mut self, progress: &dyn Progress) -> Result<Self, SimulationError> {
+    /// The reduction's solves are held to `budget`.
+    pub fn reduced(
+        mut self,
+        budget: Budget,
+        progress: &dyn Progress,
+    ) -> Result<Self, SimulationError> {
         let spec =
             self.file.simulation.as_ref().ok_or_else(|| {
                 SimulationError::NoSimulation(self.file.path.display().to_string())
             })?;
-        self.body = Some(simulation_body(&self.file, &self.sub, spec, progress)?);
+        self.body = Some(simulation_body(
+            &self.file, &self.sub, spec, budget, progress,
+        )?);
         Ok(self)
     }
 
@@ -164,16 +172,19 @@ pub enum SimulationError {
 }
 
 /// The flexible body of a simulation: reduced as the file says (with modal
-/// damping), or read from a reduced-body file.
+/// damping), or read from a reduced-body file; the reduction's solves are
+/// held to `budget`.
 pub fn simulation_body(
     file: &ModelFile,
     sub: &Substructure,
     spec: &SimulationSpec,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<ReducedBody, SimulationError> {
     let body = match &spec.body {
         BodySource::Reduce { method, modes } => {
-            let r = crate::input::file_reduction(file, *method, *modes, file.interface.clone());
+            let mut r = crate::input::file_reduction(file, *method, *modes, file.interface.clone());
+            r.memory = budget;
             reduce_reporting(sub, &r, progress)?
         }
         BodySource::File(path) => {

@@ -13,6 +13,7 @@
 
 use crate::fem::FemError;
 use crate::fem::{DofKind, Substructure};
+use crate::linalg::memory::Budget;
 use crate::linalg::progress::Progress;
 use crate::mbs::{harmonic_response, FlexibleBody, MbsError};
 use crate::recover::{harmonic_section_forces, nodal_values};
@@ -218,18 +219,23 @@ pub enum ResponseError {
 }
 
 /// Runs the study of `file` (its `[study]` table).
-pub fn run_study(file: &ModelFile, progress: &dyn Progress) -> Result<StudyResult, StudyError> {
+pub fn run_study(
+    file: &ModelFile,
+    budget: Budget,
+    progress: &dyn Progress,
+) -> Result<StudyResult, StudyError> {
     let spec = file
         .study
         .as_ref()
         .ok_or_else(|| StudyError::NoStudy(file.path.display().to_string()))?;
-    run_cases(file, spec, progress)
+    run_cases(file, spec, budget, progress)
 }
 
 /// Runs the given cases of a study on `file`.
 pub fn run_cases(
     file: &ModelFile,
     spec: &StudySpec,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<StudyResult, StudyError> {
     let sub =
@@ -249,7 +255,7 @@ pub fn run_cases(
         .collect::<Result<Vec<_>, _>>()?;
     let mut cases = Vec::new();
     for case in &spec.cases {
-        let body = reduce_case(file, &sub, case, progress)?;
+        let body = reduce_case(file, &sub, case, budget, progress)?;
         for (omega, reference) in &references {
             let reduced = respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| {
                 StudyError::Case {
@@ -288,11 +294,13 @@ pub fn reduce_case(
     file: &ModelFile,
     sub: &Substructure,
     case: &CaseSpec,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<crate::reduce::ReducedBody, StudyError> {
     let mut spec =
         crate::input::file_reduction(file, case.method, case.modes, file.interface.clone());
     spec.max_frequency_hz = case.fmax;
+    spec.memory = budget;
     reduce_reporting(sub, &spec, progress).map_err(|source| StudyError::Reduce {
         method: case.method,
         modes: case.modes,

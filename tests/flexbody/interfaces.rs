@@ -5,6 +5,7 @@ use super::support::{
     max_difference, run_ok, solid_side_beam as solid_path, stdout_json, unit_translation,
 };
 use flexbody::fem::{Dof, DofKind, Substructure};
+use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
 use flexbody::mbs::FlexibleBody;
 use flexbody::reduce::{reduce, ForceGroup, Method, Reduction};
@@ -29,7 +30,9 @@ fn the_reports_findings_hold_on_the_solid_side_beam() {
         8,
         "uz at four seats, ux/uy where guided"
     );
-    let rows = run_study(&file, &NoProgress).unwrap().rows();
+    let rows = run_study(&file, Budget::MACHINE, &NoProgress)
+        .unwrap()
+        .rows();
     // Free-residual: 6 rigid + 8 residual inertia-relief modes, no elastic
     // mode below the heave band: exact statically (measured: w 5.0e-9,
     // forces 1.2e-8, von Mises 1.1e-8; round-off of the coupled solve),
@@ -179,7 +182,10 @@ fn eigenmodes_are_selected_by_band() {
         }],
     };
     assert_eq!(
-        run_cases(&file, &study, &NoProgress).unwrap().rows()[0].r,
+        run_cases(&file, &study, Budget::MACHINE, &NoProgress)
+            .unwrap()
+            .rows()[0]
+            .r,
         7
     );
 }
@@ -236,7 +242,8 @@ fn solid_stress_histories_of_reduced_and_full_models_agree() {
     let file = read_model_file(&solid_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
     let spec = file.simulation.as_ref().unwrap();
-    let body = flexbody::simulate::simulation_body(&file, &sub, spec, &NoProgress).unwrap();
+    let body = flexbody::simulate::simulation_body(&file, &sub, spec, Budget::MACHINE, &NoProgress)
+        .unwrap();
     let red = flexbody::simulate::run_simulation(&file, FlexibleBody::Reduced(&body)).unwrap();
     let full = flexbody::simulate::run_simulation(
         &file,

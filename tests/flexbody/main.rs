@@ -19,6 +19,7 @@ mod support;
 mod vehicle;
 
 use flexbody::fem::Substructure;
+use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
 use flexbody::reduce::{Method, ReducedBody};
 use flexbody::scenario::{read_model_file, CaseSpec, ModelFile};
@@ -55,6 +56,7 @@ pub fn side_beam_body(method: Method, modes: usize) -> (ModelFile, Substructure,
             modes,
             fmax: None,
         },
+        Budget::MACHINE,
         &NoProgress,
     )
     .unwrap();

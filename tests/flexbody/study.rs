@@ -3,6 +3,7 @@
 
 use flexbody::fem::Substructure;
 use flexbody::linalg::eigen::generalized_symmetric;
+use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
 use flexbody::linalg::sparse::{max_abs, project};
 use flexbody::mbs::FlexibleBody;
@@ -26,7 +27,9 @@ fn row(rows: &[CaseRow], method: Method, r: usize, omega: f64) -> CaseRow {
 fn side_beam_study_shows_the_reports_findings() {
     let file = read_model_file(&super::side_beam_path()).unwrap();
     assert_eq!(file.model.dof_map().len(), 42);
-    let rows = run_study(&file, &NoProgress).unwrap().rows();
+    let rows = run_study(&file, Budget::MACHINE, &NoProgress)
+        .unwrap()
+        .rows();
     assert_eq!(rows.len(), 14);
 
     // Free eigenmodes only (6.3): w is fine, the static shear force is not.
@@ -112,7 +115,10 @@ fn complete_bases_reproduce_the_full_model() {
             super::case(Method::ElasticResidual, 38),
         ],
     };
-    for c in run_cases(&file, &spec, &NoProgress).unwrap().rows() {
+    for c in run_cases(&file, &spec, Budget::MACHINE, &NoProgress)
+        .unwrap()
+        .rows()
+    {
         assert_eq!(c.r, 42);
         assert!(
             c.err_w.max(c.err_m.unwrap()).max(c.err_q.unwrap()) < COMPLETE,
@@ -198,7 +204,9 @@ fn free_car_body_is_coupled_the_same_way_for_reduced_and_full_models() {
             super::case(Method::Free, 42),
         ],
     };
-    let rows = run_cases(&file, &spec, &NoProgress).unwrap().rows();
+    let rows = run_cases(&file, &spec, Budget::MACHINE, &NoProgress)
+        .unwrap()
+        .rows();
     assert_errors_below(&rows);
 }
 
@@ -304,7 +312,7 @@ fn damped_models_give_complex_responses_that_complete_bases_reproduce() {
             super::case(Method::FreeResidual, 1),
         ],
     };
-    let result = run_cases(&file, &spec, &NoProgress).unwrap();
+    let result = run_cases(&file, &spec, Budget::MACHINE, &NoProgress).unwrap();
     let reference = &result.references[0].1;
     let phase = reference.w.im.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     assert!(phase > 1e-2 * reference.w.re.iter().fold(0.0_f64, |m, v| m.max(v.abs())));

@@ -4,6 +4,7 @@
 
 use super::support::{flexbody, max_difference, run_ok};
 use flexbody::fem::{Dof, DofKind, Substructure};
+use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
 use flexbody::mbs::{damped_modes, harmonic_response, FlexibleBody, System};
 use flexbody::scenario::{parse_model_file, read_model_file, ModelFile};
@@ -39,7 +40,14 @@ fn linear_vehicle() -> ModelFile {
 
 fn run(file: &ModelFile, full: bool) -> Histories {
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(file, &sub, file.simulation.as_ref().unwrap(), &NoProgress).unwrap();
+    let body = simulation_body(
+        file,
+        &sub,
+        file.simulation.as_ref().unwrap(),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     let flexible = if full {
         FlexibleBody::Full {
             dof_map: &sub.dof_map,
@@ -113,7 +121,7 @@ fn steady_state_equals_the_harmonic_response() {
     let file = linear_vehicle();
     let spec = file.simulation.as_ref().unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(&file, &sub, spec, &NoProgress).unwrap();
+    let body = simulation_body(&file, &sub, spec, Budget::MACHINE, &NoProgress).unwrap();
     let h = run(&file, false);
     let track = file.track.unwrap();
     let omega = 2.0 * std::f64::consts::PI * spec.excitation.speed / track.wavelength;
@@ -152,8 +160,14 @@ fn steady_state_equals_the_harmonic_response() {
 fn frf_matches_single_harmonic_solutions() {
     let file = linear_vehicle();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body =
-        simulation_body(&file, &sub, file.simulation.as_ref().unwrap(), &NoProgress).unwrap();
+    let body = simulation_body(
+        &file,
+        &sub,
+        file.simulation.as_ref().unwrap(),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     let t = run_frf(&file, FlexibleBody::Reduced(&body)).unwrap();
     assert_eq!(t.frequencies_hz.len(), 240);
     let k = 100;
@@ -263,8 +277,14 @@ fn frf_of_a_one_mass_oscillator_matches_its_closed_form() {
     // the beam up statically.
     let file = stiff_beam_vehicle(true);
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body =
-        simulation_body(&file, &sub, file.simulation.as_ref().unwrap(), &NoProgress).unwrap();
+    let body = simulation_body(
+        &file,
+        &sub,
+        file.simulation.as_ref().unwrap(),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     let full = FlexibleBody::Full {
         dof_map: &sub.dof_map,
         matrices: &sub.matrices,
@@ -323,8 +343,14 @@ fn frf_of_a_two_mass_oscillator_matches_its_closed_form() {
     // (elongation: the beam's node against the other end).
     let file = stiff_beam_vehicle(false);
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body =
-        simulation_body(&file, &sub, file.simulation.as_ref().unwrap(), &NoProgress).unwrap();
+    let body = simulation_body(
+        &file,
+        &sub,
+        file.simulation.as_ref().unwrap(),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     let t = run_frf(&file, FlexibleBody::Reduced(&body)).unwrap();
     let (k1, c1) = PRIMARY;
     let (k2, c2) = SECONDARY;
@@ -360,8 +386,14 @@ fn frf_of_a_two_mass_oscillator_matches_its_closed_form() {
 fn modal_damping_gives_each_mode_its_ratio() {
     let file = read_model_file(&vehicle_path()).unwrap();
     let sub = Substructure::from_model(&file.model).unwrap();
-    let body =
-        simulation_body(&file, &sub, file.simulation.as_ref().unwrap(), &NoProgress).unwrap();
+    let body = simulation_body(
+        &file,
+        &sub,
+        file.simulation.as_ref().unwrap(),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     // The free reduced body alone (eq. 21): rigid modes at 0, every elastic
     // mode with the file's 2 %.
     let system = System {

@@ -10,6 +10,7 @@
 //! infinite eigenvalues and are not returned). Cost O(m^3): the path for
 //! models up to a few thousand DOFs.
 
+use crate::memory::Budget;
 use crate::LinalgError;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place_with_conj, solve_upper_triangular_in_place_with_conj,
@@ -129,16 +130,16 @@ const DENSE_WORK: u64 = 10;
 const TRIVIAL_ENTRIES: u64 = 1 << 17;
 
 /// Refuses, before any storage is taken, a dense eigen solve of `n`
-/// equations that would not fit in [`crate::memory::room`]; `inputs`
+/// equations that would not fit in the room `budget` leaves; `inputs`
 /// counts the dense `n x n` copies of `K` and `M` the caller has yet to
 /// make.
-pub fn ensure_dense_room(n: usize, inputs: u64) -> Result<(), LinalgError> {
+pub fn ensure_dense_room(n: usize, inputs: u64, budget: Budget) -> Result<(), LinalgError> {
     let entries = (n as u64).saturating_mul(n as u64);
     if entries < TRIVIAL_ENTRIES {
         return Ok(());
     }
     let matrices = DENSE_WORK + inputs;
-    crate::memory::ensure_room(
+    budget.ensure(
         matrices
             .saturating_mul(entries)
             .saturating_mul(std::mem::size_of::<f64>() as u64),
@@ -154,6 +155,11 @@ pub fn ensure_dense_room(n: usize, inputs: u64) -> Result<(), LinalgError> {
 /// shift; stiffer modes (a reduced body whose residual modes carry masses
 /// 1e-17 of the rest) come out of a pass on the complement of the found
 /// ones, and only directions of round-off mass stay unreturned.
+///
+/// Refused before it starts where its matrices would not fit in the
+/// machine's room ([`Budget::MACHINE`]); a caller under a user's budget
+/// checks [`ensure_dense_room`] with it first. The dense kernels run under
+/// faer's parallelism setting, as faer's own dense decompositions do.
 pub fn generalized_symmetric(
     k: MatRef<'_, f64>,
     m: MatRef<'_, f64>,
@@ -174,7 +180,7 @@ pub fn generalized_symmetric(
             vectors: Mat::zeros(0, 0),
         });
     }
-    ensure_dense_room(n, 0)?;
+    ensure_dense_room(n, 0, Budget::MACHINE)?;
     let trace_k: f64 = (0..n).map(|i| k[(i, i)].abs()).sum();
     let trace_m: f64 = (0..n).map(|i| m[(i, i)].abs()).sum();
     if trace_m == 0.0 {

@@ -14,13 +14,13 @@
 //! model. A factor's storage can also be touched ahead, by a thread that
 //! would otherwise wait (`touch_until`), and fitted to the factor (`fit`).
 //!
-//! Before a factor's storage is taken, [`ensure_room`] compares it with the
-//! memory this process can still take ([`room`]): a factor larger than that
-//! is an error at once, not the kernel's out-of-memory kill minutes into
-//! the factorisation.
+//! Before a factor's storage is taken, [`Budget::ensure`] compares it with
+//! the memory this process can still take ([`Budget::room`]): a factor
+//! larger than that is an error at once, not the kernel's out-of-memory
+//! kill minutes into the factorisation.
 
 use crate::LinalgError;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering as AtomicOrdering};
+use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
 
 /// Sets the thresholds; call once, before any thread starts.
 pub fn tune_allocator() {
@@ -41,14 +41,59 @@ pub fn release_free_memory() {
     }
 }
 
-/// The budget of [`set_limit`] in bytes; 0 is none.
-static LIMIT: AtomicU64 = AtomicU64::new(0);
+/// The memory a solve may take: the machine's and the cgroup's room,
+/// and a cap the user set on this process's resident memory (the command
+/// line's `--max-memory`). A value handed to the solvers with their
+/// matrices ([`crate::ldlt::SymbolicLdlt::with_budget`],
+/// [`crate::pencil::Pencil::with_budget`]); the default has no cap.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct Budget {
+    cap: Option<u64>,
+}
 
-/// Caps the resident memory this process may take, in bytes (`None`: only
-/// the machine's and the cgroup's limits count): the command line's
-/// `--max-memory`.
-pub fn set_limit(bytes: Option<u64>) {
-    LIMIT.store(bytes.unwrap_or(0), AtomicOrdering::Relaxed);
+impl Budget {
+    /// The machine's and the cgroup's room only.
+    pub const MACHINE: Budget = Budget { cap: None };
+
+    /// At most `cap` bytes resident (`None`: [`Budget::MACHINE`]).
+    pub fn at_most(cap: Option<u64>) -> Self {
+        Self { cap }
+    }
+
+    /// The cap on resident memory in bytes, if one was set.
+    pub fn cap(&self) -> Option<u64> {
+        self.cap
+    }
+
+    /// The room of this process, from `/proc/meminfo`, its memory cgroup
+    /// (v2 or v1) and the cap; `None` where none of these is known.
+    pub fn room(&self) -> Option<Room> {
+        room_under(self.cap)
+    }
+
+    /// `needed` more bytes for `what`, or an error when [`Self::room`] is
+    /// smaller.
+    pub fn ensure(&self, needed: u64, what: &str) -> Result<(), LinalgError> {
+        check_room(needed, self.room(), what)
+    }
+
+    /// [`Self::ensure`] for the `entries` values of an `LDL^T` factor of
+    /// `equations` equations, `resident` of them in storage already.
+    pub(crate) fn ensure_factor(
+        &self,
+        equations: usize,
+        entries: usize,
+        resident: usize,
+    ) -> Result<(), LinalgError> {
+        let missing = entries.saturating_sub(resident);
+        if missing < TRIVIAL_FACTOR {
+            return Ok(());
+        }
+        self.ensure(
+            (missing * std::mem::size_of::<f64>()) as u64,
+            &format!("the LDL^T factor of {equations} equations ({entries} entries of L)"),
+        )
+    }
 }
 
 /// Memory this process can still take, and what bounds it.
@@ -57,13 +102,12 @@ pub struct Room {
     /// Bytes.
     pub bytes: u64,
     /// The tightest bound, in words (`MemAvailable + SwapFree`, the
-    /// cgroup's limit, or the budget of [`set_limit`]).
+    /// cgroup's limit, or the [`Budget`]'s cap).
     pub bound: String,
 }
 
-/// The room of this process, from `/proc/meminfo`, its memory cgroup (v2
-/// or v1) and [`set_limit`]; `None` where none of these is known.
-pub fn room() -> Option<Room> {
+/// [`Budget::room`] under `cap`.
+fn room_under(cap: Option<u64>) -> Option<Room> {
     let read = |path: &str| std::fs::read_to_string(path).ok();
     let mut best: Option<Room> = None;
     let mut take = |bytes: u64, bound: String| {
@@ -99,8 +143,7 @@ pub fn room() -> Option<Room> {
             take(bytes, format!("the cgroup's {max}"));
         }
     }
-    let limit = LIMIT.load(AtomicOrdering::Relaxed);
-    if limit > 0 {
+    if let Some(limit) = cap {
         let resident = process_memory().map_or(0, |(now, _)| now);
         let Room { bytes, bound } = under_limit(limit, resident);
         take(bytes, bound);
@@ -113,28 +156,6 @@ pub fn room() -> Option<Room> {
 pub fn process_memory() -> Option<(u64, u64)> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     Some((kib_field(&status, "VmRSS:")?, kib_field(&status, "VmHWM:")?))
-}
-
-/// `needed` more bytes for `what`, or an error when [`room`] is smaller.
-pub fn ensure_room(needed: u64, what: &str) -> Result<(), LinalgError> {
-    check_room(needed, room(), what)
-}
-
-/// [`ensure_room`] for the `entries` values of an `LDL^T` factor of
-/// `equations` equations, `resident` of them in storage already.
-pub(crate) fn ensure_factor_room(
-    equations: usize,
-    entries: usize,
-    resident: usize,
-) -> Result<(), LinalgError> {
-    let missing = entries.saturating_sub(resident);
-    if missing < TRIVIAL_FACTOR {
-        return Ok(());
-    }
-    ensure_room(
-        (missing * std::mem::size_of::<f64>()) as u64,
-        &format!("the LDL^T factor of {equations} equations ({entries} entries of L)"),
-    )
 }
 
 /// Factors of fewer entries (1 MiB) are not checked: reading `/proc` costs

@@ -19,6 +19,7 @@ use crate::lanczos::residuals_of;
 use crate::ldlt::numeric::Input;
 use crate::ldlt::{Factor, LdltParams, SymbolicLdlt};
 use crate::lower::LowerPattern;
+use crate::memory::Budget;
 use crate::ordering::{nested_dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
@@ -188,6 +189,19 @@ impl Pencil {
     pub fn with_parallelism(mut self, par: faer::Par) -> Self {
         self.symbolic = self.symbolic.with_parallelism(par);
         self
+    }
+
+    /// This pencil with its factorisations, Lanczos runs and dense eigen
+    /// solves held to `budget` ([`SymbolicLdlt::with_budget`]); its factors
+    /// keep it.
+    pub fn with_budget(mut self, budget: Budget) -> Self {
+        self.symbolic = self.symbolic.with_budget(budget);
+        self
+    }
+
+    /// The memory budget of this pencil's solves.
+    pub fn budget(&self) -> Budget {
+        self.symbolic.budget()
     }
 
     /// `K` and `M` in dense storage, for the dense eigen solver.
@@ -369,6 +383,31 @@ mod tests {
             from_triplets(n, n, &t).unwrap(),
             from_triplets(n, n, &tm).unwrap(),
         )
+    }
+
+    /// The memory budget is the pencil's own value: a pencil held to a
+    /// budget smaller than its factor refuses the factorisation and the
+    /// eigen solve before either starts, naming the cap, while a clone
+    /// without the cap (the default) factorises.
+    #[test]
+    fn a_budget_is_held_by_the_pencil_it_is_given_to() {
+        let (k, m) = chain(200_000);
+        let free = Pencil::analyze(&k, &m, None, Ordering::Amd, &NoProgress).unwrap();
+        assert!(free.factor_len() >= 1 << 18, "{}", free.factor_len());
+        assert_eq!(free.budget(), Budget::MACHINE);
+        let held = free.clone().with_budget(Budget::at_most(Some(1 << 10)));
+        let refused = |e: LinalgError| match e {
+            LinalgError::OutOfMemory { bound, .. } => {
+                assert!(bound.contains("--max-memory"), "{bound}")
+            }
+            other => panic!("expected the budget to refuse, got {other:?}"),
+        };
+        refused(held.factorize(0.5, &NoProgress).unwrap_err());
+        let request = crate::solver::EigenRequest::new(crate::eigen::Wanted::Lowest(3))
+            .solver(crate::solver::Solver::Sparse);
+        refused(held.eigen(None, &request, &NoProgress).unwrap_err());
+        let f = free.factorize(0.5, &NoProgress).unwrap();
+        assert_eq!(f.dim(), 200_000);
     }
 
     /// A body held at some equations: the pencil taken straight from the

@@ -15,8 +15,9 @@
 //! [`crate::lanczos::residuals`] defines it) and the work done.
 
 use crate::eigen::{ensure_dense_room, generalized_symmetric, EigenPairs, Wanted};
-use crate::lanczos::{lanczos, lanczos_on, EigenSolution, Held, LanczosParams, LanczosStats};
+use crate::lanczos::{lanczos_on, EigenSolution, Held, LanczosParams, LanczosStats};
 use crate::ldlt::Factor;
+use crate::memory::Budget;
 use crate::pencil::Pencil;
 use crate::progress::Progress;
 use crate::{LinalgError, SparseMat};
@@ -112,13 +113,15 @@ impl<'a> EigenRequest<'a> {
 
 /// The `wanted` eigenpairs of `K phi = lambda M phi` for sparse symmetric
 /// `k` (positive semi-definite) and `m` (positive semi-definite, `K + M`
-/// positive definite) by `solver`. A request for more pairs than the
-/// pencil has finite ones returns those it has.
+/// positive definite) by `solver`, within the memory `budget` leaves. A
+/// request for more pairs than the pencil has finite ones returns those it
+/// has.
 pub fn eigen(
     k: &SparseMat,
     m: &SparseMat,
     wanted: Wanted,
     solver: Solver,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<EigenSolution, LinalgError> {
     let n = k.nrows();
@@ -126,10 +129,16 @@ pub fn eigen(
         return Ok(nothing(n));
     }
     if !solver.is_dense(n, wanted) {
-        return lanczos(k, m, wanted, &LanczosParams::default(), progress);
+        let params = LanczosParams::default();
+        let t = std::time::Instant::now();
+        let pencil = Pencil::analyze(k, m, None, params.ordering, progress)?.with_budget(budget);
+        let seconds = t.elapsed().as_secs_f64();
+        let mut found = lanczos_on(&pencil, None, wanted, None, &params, progress)?;
+        found.stats.analysis_seconds = seconds;
+        return Ok(found);
     }
     dense_limit(n)?;
-    ensure_dense_room(n, 2)?;
+    ensure_dense_room(n, 2, budget)?;
     let pairs = dense_all(k.to_dense(), m.to_dense())?;
     let pairs = wanted_of(pairs, wanted);
     let residuals = crate::lanczos::residuals(
@@ -177,7 +186,7 @@ impl Pencil {
         }
         drop(factor);
         dense_limit(n)?;
-        ensure_dense_room(n, 2)?;
+        ensure_dense_room(n, 2, self.budget())?;
         let (k, m) = self.to_dense();
         let pairs = wanted_of(dense_all(k, m)?, request.wanted);
         let residuals = self.residuals(&pairs);

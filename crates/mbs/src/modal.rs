@@ -17,6 +17,7 @@ use crate::system::{Assembled, System};
 use crate::MbsError;
 use faer::Mat;
 use flexbody_linalg::eigen::{ensure_dense_room, generalized_symmetric};
+use flexbody_linalg::memory::Budget;
 use flexbody_linalg::LinalgError;
 use flexbody_reduce::modes::DENSE_LIMIT;
 
@@ -51,7 +52,7 @@ pub fn damped_modes(system: &System) -> Result<Vec<DampedMode>, MbsError> {
             limit: DENSE_LIMIT,
         });
     }
-    ensure_dense_room(n, 2)?;
+    ensure_dense_room(n, 2, Budget::MACHINE)?;
     let undamped = generalized_symmetric(stiffness.to_dense().as_ref(), mass.to_dense().as_ref())?;
     if undamped.values.len() != n {
         // Massless coordinates (infinite eigenvalues) or a spectrum wider

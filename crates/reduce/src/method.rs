@@ -29,6 +29,7 @@ use faer::sparse::Triplet;
 use faer::Mat;
 use flexbody_fem::{Dof, DofKind, FemError, Substructure, Support};
 use flexbody_linalg::eigen::leading_zeros;
+use flexbody_linalg::memory::Budget;
 use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
@@ -131,6 +132,10 @@ pub struct Reduction {
     /// (the report's e = modes in the excitation band; for `free`, rigid
     /// modes included).
     pub max_frequency_hz: Option<f64>,
+    /// The memory the solves may take (the machine's room, and a cap on
+    /// this process's resident memory if one is set): a factor, a Lanczos
+    /// basis or a dense solve beyond it is refused before it starts.
+    pub memory: Budget,
 }
 
 impl Reduction {
@@ -144,6 +149,7 @@ impl Reduction {
             orthonormalize: false,
             force_groups: Vec::new(),
             max_frequency_hz: None,
+            memory: Budget::MACHINE,
         }
     }
 }
@@ -162,7 +168,7 @@ pub fn reduce_reporting(
     progress: &dyn Progress,
 ) -> Result<ReducedBody, ReduceError> {
     let checked = check(sub, spec)?;
-    let matrices = Matrices::lent(&sub.matrices.stiffness, &sub.matrices.mass);
+    let matrices = Matrices::lent(&sub.matrices.stiffness, &sub.matrices.mass).under(spec.memory);
     reduce_from(sub, matrices, checked, spec, progress)
 }
 
@@ -202,7 +208,8 @@ pub fn reduce_keeping(
     let matrices = match keep {
         Keep::Mass => Matrices::stiffness_given(k, &sub.matrices.mass),
         _ => Matrices::given(k, take(&mut sub.matrices.mass)?),
-    };
+    }
+    .under(spec.memory);
     reduce_from(sub, matrices, checked?, spec, progress)
 }
 

@@ -15,10 +15,12 @@
 use crate::modes::eigen::{eigenmodes, eigenmodes_on, Wanted};
 use crate::ReduceError;
 use faer::{Mat, MatRef};
+use flexbody_linalg::memory::Budget;
+use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::Pencil;
-use flexbody_linalg::progress::NoProgress;
+use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::solver::{EigenRequest, Solver};
-use flexbody_linalg::{sparse, SparseMat};
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
 
 /// One of the model's matrices, in full storage, as a reduction holds it.
 pub(crate) enum Held<'a> {
@@ -41,6 +43,8 @@ impl Held<'_> {
 pub(crate) struct Matrices<'a> {
     k: Held<'a>,
     m: Held<'a>,
+    /// The memory the solves on them may take.
+    budget: Budget,
 }
 
 impl<'a> Matrices<'a> {
@@ -49,6 +53,7 @@ impl<'a> Matrices<'a> {
         Self {
             k: Held::Lent(k),
             m: Held::Lent(m),
+            budget: Budget::MACHINE,
         }
     }
 
@@ -57,6 +62,7 @@ impl<'a> Matrices<'a> {
         Self {
             k: Held::Given(k),
             m: Held::Given(m),
+            budget: Budget::MACHINE,
         }
     }
 
@@ -66,6 +72,7 @@ impl<'a> Matrices<'a> {
         Self {
             k: Held::Given(k),
             m: Held::Lent(m),
+            budget: Budget::MACHINE,
         }
     }
 
@@ -75,6 +82,32 @@ impl<'a> Matrices<'a> {
     /// (dropped) otherwise, the pencil's compact copy serving instead.
     pub(crate) fn kept_if_small(self, n: usize, wanted: Wanted) -> Option<Self> {
         Solver::Auto.is_dense(n, wanted).then_some(self)
+    }
+
+    /// These matrices with their solves held to `budget`.
+    pub(crate) fn under(self, budget: Budget) -> Self {
+        Self { budget, ..self }
+    }
+
+    /// The memory the solves on these matrices may take.
+    pub(crate) fn budget(&self) -> Budget {
+        self.budget
+    }
+
+    /// The pencil of `K` (or `stiffness` in its place, such as `K` with
+    /// springs) and `M`, on the equations `within` or all, under the
+    /// matrices' budget.
+    pub(crate) fn pencil(
+        &self,
+        stiffness: Option<&SparseMat>,
+        within: Option<&[usize]>,
+        progress: &dyn Progress,
+    ) -> Result<Pencil, LinalgError> {
+        let k = stiffness.unwrap_or(self.k());
+        Ok(
+            Pencil::analyze(k, self.m(), within, Ordering::Auto, progress)?
+                .with_budget(self.budget),
+        )
     }
 
     pub(crate) fn k(&self) -> &SparseMat {

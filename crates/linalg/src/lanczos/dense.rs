@@ -30,7 +30,7 @@ pub(super) fn dense_pairs(
     progress: &dyn Progress,
 ) -> Result<(EigenPairs, Vec<f64>), LinalgError> {
     let n = pencil.dim();
-    crate::eigen::ensure_dense_room(n, 2).map_err(|err| {
+    crate::eigen::ensure_dense_room(n, 2, pencil.budget()).map_err(|err| {
         LinalgError::Dimension(format!(
             "{nev} eigenpairs of a {n}-equation model are too many for Lanczos (its \
              basis would span the model), and the dense solver does not fit: {err}"

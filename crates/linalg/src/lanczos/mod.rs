@@ -226,7 +226,8 @@ pub struct EigenSolution {
 
 /// The wanted eigenpairs of `K x = lambda M x` for sparse symmetric `K`
 /// (positive semi-definite) and `M` (positive semi-definite, `K + M`
-/// positive definite).
+/// positive definite), within the machine's memory ([`Pencil::with_budget`]
+/// and [`lanczos_on`] hold a run to a user's budget).
 pub fn lanczos(
     k: &SparseMat,
     m: &SparseMat,

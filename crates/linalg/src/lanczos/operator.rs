@@ -149,7 +149,8 @@ impl<'p> Operator<'p> {
         } else {
             self.spare.len().min(entries)
         };
-        crate::memory::ensure_factor_room(n, entries, resident)?;
+        let budget = self.pencil.budget();
+        budget.ensure_factor(n, entries, resident)?;
         let (b, p_max) = basis_shape(nev, n, params);
         let vectors = p_max + 4 * b + nev;
         let size = std::mem::size_of::<f64>();
@@ -165,7 +166,7 @@ impl<'p> Operator<'p> {
         } else {
             String::new()
         };
-        crate::memory::ensure_room(
+        budget.ensure(
             (basis + factor) as u64,
             &format!(
                 "a Lanczos run for {nev} modes ({vectors} vectors of {n} equations{with_factor})"

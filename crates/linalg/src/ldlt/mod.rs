@@ -17,6 +17,7 @@ pub(crate) mod numeric;
 pub(crate) mod solve;
 pub(crate) mod symbolic;
 
+use crate::memory::Budget;
 use crate::ordering::{nested_dissection, Dissection, Ordering};
 use crate::progress::{Progress, Stage};
 use crate::{LinalgError, SparseMat};
@@ -65,6 +66,8 @@ pub struct SymbolicLdlt {
     /// ([`SymbolicLdlt::with_parallelism`]; all of rayon's threads unless
     /// set).
     par: Par,
+    /// The memory its factors may take ([`SymbolicLdlt::with_budget`]).
+    budget: Budget,
 }
 
 /// The structure a numeric factorisation fills.
@@ -152,6 +155,7 @@ impl SymbolicLdlt {
                         inner: Arc::new(Analysis::Supernodal(supernodal)),
                         ordering,
                         par: Par::rayon(0),
+                        budget: Budget::MACHINE,
                     });
                 }
                 None => Some(d),
@@ -176,6 +180,7 @@ impl SymbolicLdlt {
             inner: Arc::new(inner),
             ordering,
             par: Par::rayon(0),
+            budget: Budget::MACHINE,
         })
     }
 
@@ -193,6 +198,19 @@ impl SymbolicLdlt {
     /// The parallelism of this analysis' factorisations and solves.
     pub fn parallelism(&self) -> Par {
         self.par
+    }
+
+    /// This analysis with its factors held to `budget`: a factor that
+    /// would not fit is refused before its storage is taken
+    /// ([`LinalgError::OutOfMemory`]).
+    pub fn with_budget(mut self, budget: Budget) -> Self {
+        self.budget = budget;
+        self
+    }
+
+    /// The memory budget of this analysis' factors.
+    pub fn budget(&self) -> Budget {
+        self.budget
     }
 
     pub fn dim(&self) -> usize {
@@ -252,6 +270,7 @@ impl SymbolicLdlt {
             ))),
             ordering: Ordering::NestedDissection,
             par: Par::rayon(0),
+            budget: Budget::MACHINE,
         }
     }
 
@@ -344,7 +363,8 @@ impl SymbolicLdlt {
     /// in memory (the storage it replaces is freed first): refused before
     /// factorising, with its size, rather than killed for memory meanwhile.
     fn ensure_room(&self, resident: usize) -> Result<(), LinalgError> {
-        crate::memory::ensure_factor_room(self.dim(), self.factor_len(), resident)
+        self.budget
+            .ensure_factor(self.dim(), self.factor_len(), resident)
     }
 
     /// Our parallel numeric factorisation of a supernodal analysis, large

@@ -14,6 +14,7 @@ use crate::products::Matrices;
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
+use flexbody_linalg::memory::Budget;
 use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::{LinalgError, SparseMat};
 
@@ -27,22 +28,30 @@ pub fn constraint_modes(
     dof_map: &DofMap,
     rigid: &RigidModes,
 ) -> Result<Mat<f64>, ReduceError> {
-    constraint_modes_reporting(stiffness, boundary, dof_map, rigid, &NoProgress)
+    constraint_modes_reporting(
+        stiffness,
+        boundary,
+        dof_map,
+        rigid,
+        Budget::MACHINE,
+        &NoProgress,
+    )
 }
 
-/// [`constraint_modes`], the stages of its factorisation going to
-/// `progress`.
+/// [`constraint_modes`] within the memory `budget` leaves, the stages of
+/// its factorisation going to `progress`.
 pub(crate) fn constraint_modes_reporting(
     stiffness: &SparseMat,
     boundary: &[usize],
     dof_map: &DofMap,
     rigid: &RigidModes,
+    budget: Budget,
     progress: &dyn Progress,
 ) -> Result<Mat<f64>, ReduceError> {
     // The mass takes no part: an empty one of the same size.
     let n = stiffness.nrows();
     let no_mass = flexbody_linalg::sparse::from_triplets(n, n, &[])?;
-    let matrices = Matrices::lent(stiffness, &no_mass);
+    let matrices = Matrices::lent(stiffness, &no_mass).under(budget);
     let lowest = Wanted::Lowest(0);
     let (psi, _, _) =
         craig_bampton_modes_from(matrices, boundary, dof_map, rigid, lowest, progress)?;

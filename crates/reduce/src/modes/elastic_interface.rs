@@ -34,7 +34,6 @@ use faer::linalg::solvers::Solve;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::ldlt::Factor;
-use flexbody_linalg::ordering::Ordering;
 use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::solver::{EigenRequest, Solver};
@@ -81,9 +80,16 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     if !on_equations(&springs, boundary) {
         // Springs off the interface: the constraint modes of K on their
         // own factorisation, the eigenmodes on the pencil of K + C.
-        let psi = constraint_modes_reporting(matrices.k(), boundary, dof_map, rigid, progress)?;
+        let psi = constraint_modes_reporting(
+            matrices.k(),
+            boundary,
+            dof_map,
+            rigid,
+            matrices.budget(),
+            progress,
+        )?;
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        let pencil = Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, progress)?;
+        let pencil = matrices.pencil(Some(&supported), None, progress)?;
         drop(supported);
         let full = matrices.kept_if_small(n, band);
         let phi = eigenmodes_on(&pencil, None, &EigenRequest::new(band), progress)?;
@@ -93,7 +99,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     mechanism_check(boundary, &interior, dof_map, rigid)?;
     let pencil = {
         let supported = sparse::add_scaled(matrices.k(), 1.0, &springs)?;
-        Pencil::analyze(&supported, matrices.m(), None, Ordering::Auto, progress)?
+        matrices.pencil(Some(&supported), None, progress)?
     };
     let full = matrices.kept_if_small(n, band);
     let sprung = Sprung { pencil, springs };

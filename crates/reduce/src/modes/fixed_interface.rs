@@ -17,8 +17,6 @@ use crate::products::{Bordered, Matrices, Products};
 use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
-use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress, Stage};
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
@@ -53,13 +51,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     let n = matrices.k().nrows();
     let interior = complement(boundary, n);
     mechanism_check(boundary, &interior, dof_map, rigid)?;
-    let pencil = Pencil::analyze(
-        matrices.k(),
-        matrices.m(),
-        Some(&interior),
-        Ordering::Auto,
-        progress,
-    )?;
+    let pencil = matrices.pencil(None, Some(&interior), progress)?;
     let bordered = Bordered::new(
         pencil,
         matrices.k(),

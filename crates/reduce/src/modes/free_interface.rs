@@ -24,8 +24,6 @@ use crate::ReduceError;
 use faer::Mat;
 use flexbody_fem::DofMap;
 use flexbody_linalg::lanczos::Held;
-use flexbody_linalg::ordering::Ordering;
-use flexbody_linalg::pencil::Pencil;
 use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::solver::EigenRequest;
 use flexbody_linalg::SparseMat;
@@ -75,7 +73,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     if nr > 0 {
         check_support(rigid, support, dof_map)?;
     }
-    let pencil = Pencil::analyze(matrices.k(), matrices.m(), None, Ordering::Auto, progress)?;
+    let pencil = matrices.pencil(None, None, progress)?;
     let full = matrices.kept_if_small(n, at_least(band));
     if nr == 0 {
         // A supported body: K is regular, the attachment modes are K^-1 P

@@ -6,6 +6,7 @@ use faer::Mat;
 use flexbody_fem::{Dof, DofKind, Substructure};
 use flexbody_linalg::eigen::Wanted;
 use flexbody_linalg::lanczos::{lanczos, LanczosParams};
+use flexbody_linalg::memory::Budget;
 use flexbody_linalg::progress::NoProgress;
 use flexbody_linalg::sparse;
 use flexbody_reduce::modes::eigen::{eigenmodes_with, Solver, SPARSE_FROM};
@@ -39,16 +40,28 @@ fn owned_matrices_give_the_same_modes_and_their_residuals() {
     let s = block(10, 3, 3, [1.0, 0.2, 0.2], false);
     let (k, m) = (&s.matrices.stiffness, &s.matrices.mass);
     let dense = eigenmodes_with(k, m, Wanted::Lowest(20), Solver::Dense).unwrap();
-    let (modes, residuals) =
-        eigenmodes_owned(k.clone(), m.clone(), Wanted::Lowest(20), &NoProgress).unwrap();
+    let (modes, residuals) = eigenmodes_owned(
+        k.clone(),
+        m.clone(),
+        Wanted::Lowest(20),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     assert_close(&modes.values, &dense.values, 1e-10);
     assert_eq!(residuals.len(), 20);
     assert!(residuals.iter().all(|r| *r < 1e-8), "{residuals:?}");
     // The band up to midway between modes 12 and 13: exactly 12 modes.
     let v = &dense.values;
     let hz = 0.5 * (v[11].sqrt() + v[12].sqrt()) / (2.0 * std::f64::consts::PI);
-    let (band, _) =
-        eigenmodes_owned(k.clone(), m.clone(), Wanted::below_hz(hz), &NoProgress).unwrap();
+    let (band, _) = eigenmodes_owned(
+        k.clone(),
+        m.clone(),
+        Wanted::below_hz(hz),
+        Budget::MACHINE,
+        &NoProgress,
+    )
+    .unwrap();
     assert_close(&band.values, &dense.values[..12], 1e-10);
 }
 
