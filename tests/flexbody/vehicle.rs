@@ -7,6 +7,7 @@ use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
 use flexbody::mbs::{damped_modes, harmonic_response, FlexibleBody, System};
+use flexbody::reduce::ReducedBody;
 use flexbody::scenario::{parse_model_file, read_model_file, ModelFile};
 use flexbody::simulate::{run_frf, run_simulation, simulation_body, Histories};
 use std::path::PathBuf;
@@ -38,7 +39,9 @@ fn linear_vehicle() -> ModelFile {
     parse_model_file("linear_vehicle.toml".as_ref(), &linear).unwrap()
 }
 
-fn run(file: &ModelFile, full: bool) -> Histories {
+/// The FE substructure of `file`'s model and the body its simulation
+/// reduces it to.
+fn simulated_body(file: &ModelFile) -> (Substructure, ReducedBody) {
     let sub = Substructure::from_model(&file.model).unwrap();
     let body = simulation_body(
         file,
@@ -48,6 +51,11 @@ fn run(file: &ModelFile, full: bool) -> Histories {
         &NoProgress,
     )
     .unwrap();
+    (sub, body)
+}
+
+fn run(file: &ModelFile, full: bool) -> Histories {
+    let (sub, body) = simulated_body(file);
     let flexible = if full {
         FlexibleBody::Full {
             dof_map: &sub.dof_map,
@@ -159,15 +167,7 @@ fn steady_state_equals_the_harmonic_response() {
 #[test]
 fn frf_matches_single_harmonic_solutions() {
     let file = linear_vehicle();
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(
-        &file,
-        &sub,
-        file.simulation.as_ref().unwrap(),
-        Budget::MACHINE,
-        &NoProgress,
-    )
-    .unwrap();
+    let (_, body) = simulated_body(&file);
     let t = run_frf(&file, FlexibleBody::Reduced(&body)).unwrap();
     assert_eq!(t.frequencies_hz.len(), 240);
     let k = 100;
@@ -276,15 +276,7 @@ fn frf_of_a_one_mass_oscillator_matches_its_closed_form() {
     // against the other end, so tension is negative when the track pushes
     // the beam up statically.
     let file = stiff_beam_vehicle(true);
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(
-        &file,
-        &sub,
-        file.simulation.as_ref().unwrap(),
-        Budget::MACHINE,
-        &NoProgress,
-    )
-    .unwrap();
+    let (sub, body) = simulated_body(&file);
     let full = FlexibleBody::Full {
         dof_map: &sub.dof_map,
         matrices: &sub.matrices,
@@ -342,15 +334,7 @@ fn frf_of_a_two_mass_oscillator_matches_its_closed_form() {
     // (k1 + i W c1)(w - a) and the front secondary one's (k2 + i W c2)(w - z)
     // (elongation: the beam's node against the other end).
     let file = stiff_beam_vehicle(false);
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(
-        &file,
-        &sub,
-        file.simulation.as_ref().unwrap(),
-        Budget::MACHINE,
-        &NoProgress,
-    )
-    .unwrap();
+    let (_, body) = simulated_body(&file);
     let t = run_frf(&file, FlexibleBody::Reduced(&body)).unwrap();
     let (k1, c1) = PRIMARY;
     let (k2, c2) = SECONDARY;
@@ -385,15 +369,7 @@ fn frf_of_a_two_mass_oscillator_matches_its_closed_form() {
 #[test]
 fn modal_damping_gives_each_mode_its_ratio() {
     let file = read_model_file(&vehicle_path()).unwrap();
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let body = simulation_body(
-        &file,
-        &sub,
-        file.simulation.as_ref().unwrap(),
-        Budget::MACHINE,
-        &NoProgress,
-    )
-    .unwrap();
+    let (_, body) = simulated_body(&file);
     // The free reduced body alone (eq. 21): rigid modes at 0, every elastic
     // mode with the file's 2 %.
     let system = System {

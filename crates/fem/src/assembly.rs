@@ -371,6 +371,7 @@ unsafe fn scatter(
 mod tests {
     use super::*;
     use crate::element::{AxialSpring, Beam, PointMass, Spring};
+    use crate::mesh::BrickBlock;
     use crate::{BeamProperties, BeamTheory, Dof, DofKind, Material, Node, SectionShape};
     use faer::Mat;
     use std::collections::BTreeMap;
@@ -398,46 +399,21 @@ mod tests {
         (k, m)
     }
 
-    /// A C3D8 brick of `nx * ny * nz` unit-ish elements, free, its elements
+    /// A C3D8 brick of `nx * ny * nz` unit-ish elements (a [`BrickBlock`] of
+    /// cells 1 x 0.9 x 1.1 m, sheared by z += 0.05 x), free, its elements
     /// listed in the order `order(e)` of the mesh order `e`.
     fn brick(nx: usize, ny: usize, nz: usize, order: impl Fn(usize) -> usize) -> Model {
-        use crate::element::{Solid, SolidKind};
-        let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + (ny + 1) * k)) as u64;
-        let mut nodes = Vec::new();
-        for k in 0..=nz {
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    let x = [i as f64, 0.9 * j as f64, 1.1 * k as f64 + 0.05 * i as f64];
-                    nodes.push(Node {
-                        id: id(i, j, k),
-                        coords: x,
-                    });
-                }
-            }
+        let block = BrickBlock {
+            cells: [nx, ny, nz],
+            origin: [0.0; 3],
+            size: [nx as f64, 0.9 * ny as f64, 1.1 * nz as f64],
+        };
+        let mut nodes = block.nodes();
+        for node in &mut nodes {
+            node.coords[2] += 0.05 * node.coords[0];
         }
-        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
-        let mut mesh = Vec::new();
-        for k in 0..nz {
-            for j in 0..ny {
-                for i in 0..nx {
-                    let c = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)];
-                    let mut ids: Vec<u64> =
-                        c.iter().map(|&(a, b, _)| id(i + a, j + b, k)).collect();
-                    ids.extend(c.iter().map(|&(a, b, _)| id(i + a, j + b, k + 1)));
-                    mesh.push(ids);
-                }
-            }
-        }
-        let elements = (0..mesh.len())
-            .map(|e| {
-                Element::Solid(Solid {
-                    id: e + 1,
-                    kind: SolidKind::C3D8,
-                    nodes: mesh[order(e)].clone(),
-                    material: steel.clone(),
-                })
-            })
-            .collect();
+        let cells = block.elements(&Material::new(2.1e11, 0.3, 7850.0).unwrap());
+        let elements = (0..cells.len()).map(|e| cells[order(e)].clone()).collect();
         Model::new(nodes, elements, BTreeMap::new(), Vec::new(), None).unwrap()
     }
 

@@ -10,11 +10,12 @@ mod common;
 
 use common::{dense_matrices, load_vector, mat_vec, max_abs, solve, static_solution};
 use faer::Mat;
-use flexbody_fem::element::{Solid, SolidKind};
-use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node};
+use flexbody_fem::element::SolidKind;
+use flexbody_fem::mesh::{SolidBlock, SolidMesh};
+use flexbody_fem::{Dof, DofKind, Material, Model};
 use flexbody_recover::{nodal_stresses, ModalStress};
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 const E: f64 = 2.1e11;
 const NU: f64 = 0.3;
@@ -43,36 +44,12 @@ fn hooke(g: &[[f64; 3]; 3]) -> [f64; 6] {
     ]
 }
 
-/// Deterministic pseudo-random numbers in `[-1, 1)` (xorshift).
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
-
 /// A structured mesh of the box `origin + [0, size]` in `cells` hexahedral
-/// cells, each one element (C3D8, C3D20) or six tetrahedra (C3D10, the
-/// Kuhn subdivision along the cells' main diagonal, conforming).
+/// cells (a [`SolidBlock`]), each one element (C3D8, C3D20) or six
+/// tetrahedra (C3D10).
 struct Mesh {
-    kind: SolidKind,
-    cells: [usize; 3],
-    size: [f64; 3],
-    coords: Vec<[f64; 3]>,
-    /// Position before distortion, relative to `origin`.
-    reference: Vec<[f64; 3]>,
-    elements: Vec<Vec<usize>>,
-    /// Mid-edge node of the edge between two nodes (sorted pair).
-    mid: HashMap<(usize, usize), usize>,
+    solid: SolidMesh,
 }
-
-use flexbody_fem::element::solid::topology::{
-    HEX20_EDGES as HEX_EDGES, HEX_CORNERS, TET10_EDGES as TET_EDGES,
-};
 
 impl Mesh {
     /// The mesh; interior grid points move at random by up to `distortion`
@@ -85,134 +62,36 @@ impl Mesh {
         origin: [f64; 3],
         distortion: f64,
     ) -> Self {
-        let mut rng = Random(0x9E37_79B9_7F4A_7C15);
-        let h = [0, 1, 2].map(|c| size[c] / cells[c] as f64);
-        let [nx, ny, nz] = cells;
-        let grid = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
-        let mut mesh = Mesh {
+        assert!(KINDS.contains(&kind), "kind not meshed here");
+        let solid = SolidBlock {
             kind,
             cells,
+            origin,
             size,
-            coords: Vec::new(),
-            reference: Vec::new(),
-            elements: Vec::new(),
-            mid: HashMap::new(),
-        };
-        for k in 0..=nz {
-            for j in 0..=ny {
-                for i in 0..=nx {
-                    let r = [i as f64 * h[0], j as f64 * h[1], k as f64 * h[2]];
-                    let inside = i > 0 && i < nx && j > 0 && j < ny && k > 0 && k < nz;
-                    let d = [rng.next(), rng.next(), rng.next()];
-                    let amp = if inside { distortion } else { 0.0 };
-                    mesh.reference.push(r);
-                    mesh.coords
-                        .push([0, 1, 2].map(|c| origin[c] + r[c] + amp * h[c] * d[c]));
-                }
-            }
+            corner_distortion: distortion,
+            // Straight edges for C3D10: the 4-point rule of C3D10 integrates
+            // its stiffness exactly only for affine elements, so curved ones
+            // miss the patch test (as CalculiX's C3D10).
+            edge_distortion: if kind == SolidKind::C3D10 {
+                0.0
+            } else {
+                distortion * 0.2
+            },
+            seed: 1,
         }
-        for k in 0..nz {
-            for j in 0..ny {
-                for i in 0..nx {
-                    let v = |b: usize| grid(i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2));
-                    let hex: Vec<usize> = HEX_CORNERS.iter().map(|&b| v(b)).collect();
-                    match kind {
-                        SolidKind::C3D8 => mesh.elements.push(hex),
-                        SolidKind::C3D20 => {
-                            let mut e = hex.clone();
-                            for (a, b) in HEX_EDGES {
-                                e.push(mesh.mid_node(hex[a], hex[b], distortion * 0.2, &mut rng));
-                            }
-                            mesh.elements.push(e);
-                        }
-                        SolidKind::C3D10 => {
-                            for p in [
-                                [0, 1, 2],
-                                [0, 2, 1],
-                                [1, 0, 2],
-                                [1, 2, 0],
-                                [2, 0, 1],
-                                [2, 1, 0],
-                            ] {
-                                let b1 = 1 << p[0];
-                                let b2 = b1 | (1 << p[1]);
-                                let mut t = vec![v(0), v(b1), v(b2), v(7)];
-                                if tet_volume(&mesh.coords, &t) < 0.0 {
-                                    t.swap(1, 2);
-                                }
-                                let corners = t.clone();
-                                // Straight edges: the 4-point rule of C3D10
-                                // integrates its stiffness exactly only for
-                                // affine elements, so curved ones miss the
-                                // patch test (as CalculiX's C3D10).
-                                for (a, b) in TET_EDGES {
-                                    t.push(mesh.mid_node(corners[a], corners[b], 0.0, &mut rng));
-                                }
-                                mesh.elements.push(t);
-                            }
-                        }
-                        _ => unreachable!("kind not meshed here"),
-                    }
-                }
-            }
-        }
-        mesh
-    }
-
-    fn mid_node(&mut self, a: usize, b: usize, amplitude: f64, rng: &mut Random) -> usize {
-        let key = (a.min(b), a.max(b));
-        if let Some(&m) = self.mid.get(&key) {
-            return m;
-        }
-        let r = [0, 1, 2].map(|c| 0.5 * (self.reference[a][c] + self.reference[b][c]));
-        let h = [0, 1, 2].map(|c| self.size[c] / self.cells[c] as f64);
-        let d = [rng.next(), rng.next(), rng.next()];
-        let amp = if self.on_boundary(r) { 0.0 } else { amplitude };
-        let x =
-            [0, 1, 2].map(|c| 0.5 * (self.coords[a][c] + self.coords[b][c]) + amp * h[c] * d[c]);
-        self.reference.push(r);
-        self.coords.push(x);
-        self.mid.insert(key, self.coords.len() - 1);
-        self.coords.len() - 1
-    }
-
-    /// True if a reference position lies on the surface of the box.
-    fn on_boundary(&self, r: [f64; 3]) -> bool {
-        (0..3).any(|c| {
-            r[c].abs() < 1e-12 * self.size[c] || (r[c] - self.size[c]).abs() < 1e-12 * self.size[c]
-        })
+        .mesh();
+        Self { solid }
     }
 
     /// Reference position relative to the box origin, in units of the box
     /// size along `axis`: 0 or 1 on its faces.
     fn relative(&self, node: usize, axis: usize) -> f64 {
-        self.reference[node][axis] / self.size[axis]
+        self.solid.reference[node][axis]
     }
 
     fn model(&self, fixed: Vec<Dof>) -> Model {
-        let nodes = self
-            .coords
-            .iter()
-            .enumerate()
-            .map(|(i, x)| Node {
-                id: i as u64 + 1,
-                coords: *x,
-            })
-            .collect();
-        let elements = self
-            .elements
-            .iter()
-            .enumerate()
-            .map(|(e, n)| {
-                Element::Solid(Solid {
-                    id: e + 1,
-                    kind: self.kind,
-                    nodes: n.iter().map(|&i| i as u64 + 1).collect(),
-                    material: Material::new(E, NU, RHO).unwrap(),
-                })
-            })
-            .collect();
-        Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap()
+        let elements = self.solid.elements(&Material::new(E, NU, RHO).unwrap());
+        Model::new(self.solid.nodes(), elements, BTreeMap::new(), fixed, None).unwrap()
     }
 
     /// Consistent nodal forces along x of the traction `t(y, z)` (Pa) on the
@@ -225,9 +104,9 @@ impl Mesh {
     fn end_face_loads(&self, traction: impl Fn(f64, f64) -> f64) -> Vec<(usize, f64)> {
         let mut out = Vec::new();
         let on_face = |n: usize| (self.relative(n, 0) - 1.0).abs() < 1e-12;
-        match self.kind {
+        match self.solid.kind {
             SolidKind::C3D8 | SolidKind::C3D20 => {
-                for e in &self.elements {
+                for e in &self.solid.elements {
                     // Face corners: the cell's corners at x = max (Abaqus
                     // order 2, 3, 7, 6 in 1-based numbering), counter-
                     // clockwise in (y, z).
@@ -235,7 +114,7 @@ impl Mesh {
                     if !corners.iter().all(|&n| on_face(n)) {
                         continue;
                     }
-                    let yz = |n: usize| [self.coords[n][1], self.coords[n][2]];
+                    let yz = |n: usize| [self.solid.coords[n][1], self.solid.coords[n][2]];
                     let (lo, hi) = (yz(corners[0]), yz(corners[2]));
                     let jac = (hi[0] - lo[0]) * (hi[1] - lo[1]) / 4.0;
                     // Nodes with their (s, t) in the face's parameter square.
@@ -245,10 +124,10 @@ impl Mesh {
                         (corners[2], [1.0, 1.0]),
                         (corners[3], [-1.0, 1.0]),
                     ];
-                    if self.kind == SolidKind::C3D20 {
+                    if self.solid.kind == SolidKind::C3D20 {
                         for (a, b) in [(0, 1), (1, 2), (2, 3), (3, 0)] {
-                            let m =
-                                self.mid[&(corners[a].min(corners[b]), corners[a].max(corners[b]))];
+                            let m = self.solid.mid
+                                [&(corners[a].min(corners[b]), corners[a].max(corners[b]))];
                             let st = [0, 1].map(|c| 0.5 * (nodes[a].1[c] + nodes[b].1[c]));
                             nodes.push((m, st));
                         }
@@ -261,7 +140,7 @@ impl Mesh {
                             let z = lo[1] + (t + 1.0) / 2.0 * (hi[1] - lo[1]);
                             let w = ws * wt * jac * traction(y, z);
                             for &(n, [si, ti]) in &nodes {
-                                let shape = if self.kind == SolidKind::C3D8 {
+                                let shape = if self.solid.kind == SolidKind::C3D8 {
                                     (1.0 + s * si) * (1.0 + t * ti) / 4.0
                                 } else if si == 0.0 {
                                     (1.0 - s * s) * (1.0 + t * ti) / 2.0
@@ -277,13 +156,13 @@ impl Mesh {
                 }
             }
             SolidKind::C3D10 => {
-                for e in &self.elements {
+                for e in &self.solid.elements {
                     for face in [[0, 1, 2], [0, 1, 3], [1, 2, 3], [0, 2, 3]] {
                         let c = face.map(|a| e[a]);
                         if !c.iter().all(|&n| on_face(n)) {
                             continue;
                         }
-                        let p = c.map(|n| [self.coords[n][1], self.coords[n][2]]);
+                        let p = c.map(|n| [self.solid.coords[n][1], self.solid.coords[n][2]]);
                         let area = 0.5
                             * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
                                 - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]))
@@ -291,7 +170,7 @@ impl Mesh {
                         let centre = [0, 1].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0);
                         let t = traction(centre[0], centre[1]);
                         for (a, b) in [(0, 1), (1, 2), (2, 0)] {
-                            let m = self.mid[&(c[a].min(c[b]), c[a].max(c[b]))];
+                            let m = self.solid.mid[&(c[a].min(c[b]), c[a].max(c[b]))];
                             out.push((m, t * area / 3.0));
                         }
                     }
@@ -301,14 +180,6 @@ impl Mesh {
         }
         out
     }
-}
-
-/// Signed volume of a tetrahedron (times 6) from its first four nodes.
-fn tet_volume(coords: &[[f64; 3]], t: &[usize]) -> f64 {
-    let d = |k: usize| [0, 1, 2].map(|c| coords[t[k]][c] - coords[t[0]][c]);
-    let (a, b, c) = (d(1), d(2), d(3));
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-        + a[2] * (b[0] * c[1] - b[1] * c[0])
 }
 
 const KINDS: [SolidKind; 3] = [SolidKind::C3D8, SolidKind::C3D20, SolidKind::C3D10];
@@ -339,10 +210,7 @@ fn patch(kind: SolidKind, gradient: &[[f64; 3]; 3]) -> (Model, Vec<f64>, f64, f6
     };
     let boundary: Vec<bool> = dofs
         .iter()
-        .map(|d| {
-            let n = d.node as usize - 1;
-            mesh.on_boundary(mesh.reference[n])
-        })
+        .map(|d| mesh.solid.on_boundary(d.node as usize - 1))
         .collect();
     let mut u: Vec<f64> = dofs
         .iter()
@@ -438,7 +306,7 @@ fn bar_in_tension_gives_f_over_a() {
     for kind in KINDS {
         let mesh = Mesh::new(kind, [6, 2, 2], [l, b, h], [0.0; 3], 0.2);
         let mut fixed = Vec::new();
-        for n in 0..mesh.coords.len() {
+        for n in 0..mesh.solid.coords.len() {
             for (axis, dof) in [DofKind::Ux, DofKind::Uy, DofKind::Uz]
                 .into_iter()
                 .enumerate()
@@ -505,7 +373,7 @@ fn bar_in_pure_bending_gives_m_z_over_i() {
     for (kind, cells) in [(SolidKind::C3D20, [4, 1, 2]), (SolidKind::C3D8, [20, 2, 8])] {
         let mesh = Mesh::new(kind, cells, [l, b, h], [0.0, 0.0, -h / 2.0], 0.0);
         let mut fixed = Vec::new();
-        for n in 0..mesh.coords.len() {
+        for n in 0..mesh.solid.coords.len() {
             let id = n as u64 + 1;
             if mesh.relative(n, 0).abs() < 1e-12 {
                 fixed.push(Dof::new(id, DofKind::Ux));

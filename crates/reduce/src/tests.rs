@@ -5,7 +5,8 @@ use crate::method::{free_body_rigid_modes, interface_equations};
 use crate::modes::*;
 use crate::ReduceError;
 use faer::Mat;
-use flexbody_fem::element::{Beam, PlanarBeam};
+use flexbody_fem::element::Beam;
+use flexbody_fem::mesh::{BeamLine, BeamLineKind};
 use flexbody_fem::{
     BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, SectionShape,
     Substructure, SystemMatrices,
@@ -31,22 +32,15 @@ fn props() -> BeamProperties {
 
 /// Free planar beam along x, `n` elements over 2.5 m, nodes 1..=n+1.
 fn planar_beam(n: usize) -> Model {
-    let nodes = (0..=n)
-        .map(|i| Node {
-            id: i as u64 + 1,
-            coords: [2.5 * i as f64 / n as f64, 0.0, 0.0],
-        })
-        .collect();
-    let elements = (0..n)
-        .map(|i| {
-            Element::PlanarBeam(PlanarBeam {
-                id: i + 1,
-                nodes: [i as u64 + 1, i as u64 + 2],
-                properties: props(),
-            })
-        })
-        .collect();
-    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+    BeamLine {
+        cells: n,
+        start: [0.0; 3],
+        end: [2.5, 0.0, 0.0],
+        kind: BeamLineKind::Planar,
+        properties: props(),
+    }
+    .model(vec![])
+    .unwrap()
 }
 
 /// Free 3D L-frame: 4 beams along x, then 4 along y; nodes 1..=9.
@@ -91,6 +85,24 @@ fn setup(model: &Model) -> (SystemMatrices, RigidModes) {
     (sub.matrices, rigid)
 }
 
+/// A free model with an interface: the model, its matrices and
+/// rigid-body modes, the interface's equations `h` and unit loads on them.
+fn free(
+    model: Model,
+    interface: &[Dof],
+) -> (Model, SystemMatrices, RigidModes, Vec<usize>, Mat<f64>) {
+    let (s, rigid) = setup(&model);
+    let h = interface_equations(&sub(&model), interface).unwrap();
+    let loads = unit_loads(model.dof_map().len(), &h);
+    (model, s, rigid, h, loads)
+}
+
+/// The free planar beam of 20 elements with the interface uz at nodes 1,
+/// 21, 7 and 15.
+fn beam_on_four_points() -> (Model, SystemMatrices, RigidModes, Vec<usize>, Mat<f64>) {
+    free(planar_beam(20), &uz(&[1, 21, 7, 15]))
+}
+
 fn sub(model: &Model) -> Substructure {
     Substructure::from_model(model).unwrap()
 }
@@ -130,10 +142,8 @@ fn inertia_relief_loads_are_self_equilibrated_and_modes_solve_the_free_body() {
             ],
         ),
     ] {
-        let (s, rigid) = setup(&model);
+        let (model, s, rigid, h, loads) = free(model, &interface);
         let map = model.dof_map();
-        let h = interface_equations(&sub(&model), &interface).unwrap();
-        let loads = unit_loads(map.len(), &h);
         let p_g = self_equilibrated_loads(&s.mass, &rigid, &loads);
         // Report: 0 = T_st^T G^T P_1.
         let work = rigid.vectors.transpose() * &p_g;
@@ -163,11 +173,8 @@ fn inertia_relief_loads_are_self_equilibrated_and_modes_solve_the_free_body() {
 
 #[test]
 fn any_statically_determinate_support_gives_the_same_modes() {
-    let model = planar_beam(20);
-    let (s, rigid) = setup(&model);
+    let (model, s, rigid, _, loads) = beam_on_four_points();
     let map = model.dof_map();
-    let h = interface_equations(&sub(&model), &uz(&[1, 21, 7, 15])).unwrap();
-    let loads = unit_loads(map.len(), &h);
     let at_node_1 = interface_equations(
         &sub(&model),
         &[Dof::new(1, DofKind::Uz), Dof::new(1, DofKind::Ry)],
@@ -218,11 +225,8 @@ fn supports_that_constrain_or_do_not_fix_the_body_are_refused() {
 
 #[test]
 fn residual_modes_are_m_and_k_orthogonal_to_the_kept_eigenmodes() {
-    let model = planar_beam(20);
-    let (s, rigid) = setup(&model);
+    let (model, s, rigid, _, loads) = beam_on_four_points();
     let map = model.dof_map();
-    let h = interface_equations(&sub(&model), &uz(&[1, 21, 7, 15])).unwrap();
-    let loads = unit_loads(map.len(), &h);
     let support = statically_determinate_support(&rigid, &[0, 1]);
     let t = inertia_relief_attachment_modes(&s.stiffness, &s.mass, &rigid, &loads, &support, map)
         .unwrap();
@@ -244,10 +248,8 @@ fn residual_modes_are_m_and_k_orthogonal_to_the_kept_eigenmodes() {
 
 #[test]
 fn constraint_modes_are_unit_displacements_with_interior_equilibrium() {
-    let model = planar_beam(20);
-    let (s, rigid) = setup(&model);
+    let (model, s, rigid, h, _) = beam_on_four_points();
     let map = model.dof_map();
-    let h = interface_equations(&sub(&model), &uz(&[1, 21, 7, 15])).unwrap();
     let t = constraint_modes(&s.stiffness, &h, map, &rigid).unwrap();
     let kt = &s.stiffness * &t;
     let k_scale = flexbody_linalg::sparse::max_abs_diagonal(&s.stiffness);
@@ -278,14 +280,13 @@ fn soft_springs_give_the_constraint_modes_by_refinement() {
     use flexbody_linalg::pencil::Pencil;
     use flexbody_linalg::sparse::add_scaled;
     let model = l_frame();
-    let (s, rigid) = setup(&model);
-    let map = model.dof_map();
     let nodes = [1u64, 5, 9];
     let dofs: Vec<Dof> = nodes
         .iter()
         .flat_map(|&n| DofKind::ALL.map(|k| Dof::new(n, k)))
         .collect();
-    let h = interface_equations(&sub(&model), &dofs).unwrap();
+    let (model, s, rigid, h, _) = free(model, &dofs);
+    let map = model.dof_map();
     let springs: Vec<crate::GroundSpring> = nodes
         .iter()
         .flat_map(|&node| {

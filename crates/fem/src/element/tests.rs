@@ -1,8 +1,9 @@
 //! Verification of the beam elements against beam theory.
 
 use crate::dof::{Dof, DofKind};
-use crate::element::{Beam, Element, PlanarBeam, PointMass};
-use crate::model::{Model, Node};
+use crate::element::{Element, PointMass};
+use crate::mesh::{BeamLine, BeamLineKind};
+use crate::model::Model;
 use crate::section::{BeamProperties, BeamTheory, Material, SectionShape};
 use crate::{assemble, SystemMatrices};
 use faer::Mat;
@@ -32,39 +33,18 @@ fn line(
     theory: BeamTheory,
     fixed_start: bool,
 ) -> Model {
-    let nodes: Vec<Node> = (0..=n)
-        .map(|i| {
-            let t = i as f64 / n as f64;
-            Node {
-                id: i as u64 + 1,
-                coords: [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k])),
-            }
-        })
-        .collect();
-    let elements = (0..n)
-        .map(|i| {
-            let nodes = [i as u64 + 1, i as u64 + 2];
-            if planar {
-                Element::PlanarBeam(PlanarBeam {
-                    id: i + 1,
-                    nodes,
-                    properties: props(theory),
-                })
+    let kind = if planar {
+        BeamLineKind::Planar
+    } else {
+        BeamLineKind::Spatial {
+            // Local y: global y for beams along x, else global z.
+            orientation: if (b[1] - a[1]).abs() + (b[2] - a[2]).abs() == 0.0 {
+                [0.0, 1.0, 0.0]
             } else {
-                Element::Beam(Beam {
-                    id: i + 1,
-                    nodes,
-                    properties: props(theory),
-                    // Local y: global y for beams along x, else global z.
-                    orientation: if (b[1] - a[1]).abs() + (b[2] - a[2]).abs() == 0.0 {
-                        [0.0, 1.0, 0.0]
-                    } else {
-                        [0.0, 0.0, 1.0]
-                    },
-                })
-            }
-        })
-        .collect();
+                [0.0, 0.0, 1.0]
+            },
+        }
+    };
     let kinds: &[DofKind] = if planar {
         &[DofKind::Uz, DofKind::Ry]
     } else {
@@ -75,7 +55,15 @@ fn line(
     } else {
         vec![]
     };
-    Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap()
+    BeamLine {
+        cells: n,
+        start: a,
+        end: b,
+        kind,
+        properties: props(theory),
+    }
+    .model(fixed)
+    .unwrap()
 }
 
 fn eigenvalues(s: &SystemMatrices) -> Vec<f64> {

@@ -2,11 +2,10 @@
 //! acceleration in closed form.
 
 use crate::common::{dense_matrices, mat_vec, max_abs, solve};
-use flexbody_fem::element::{Beam, PlanarBeam};
+use flexbody_fem::mesh::{BeamLine, BeamLineKind};
 use flexbody_fem::section::SectionConstants;
 use flexbody_fem::{
-    BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, Node, SectionForces,
-    SectionShape,
+    BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, SectionForces, SectionShape,
 };
 use flexbody_recover::ElementForces;
 use std::collections::BTreeMap;
@@ -50,6 +49,15 @@ impl Kind {
         match self {
             Kind::Planar => props(BeamTheory::EulerBernoulli),
             Kind::Beam(t) => props(t),
+        }
+    }
+
+    /// The elements of a [`BeamLine`] of this kind; `orientation` is the
+    /// local y of a 3D beam.
+    pub(crate) fn line_kind(self, orientation: [f64; 3]) -> BeamLineKind {
+        match self {
+            Kind::Planar => BeamLineKind::Planar,
+            Kind::Beam(_) => BeamLineKind::Spatial { orientation },
         }
     }
 
@@ -124,37 +132,21 @@ pub(crate) fn line(
     reversed: impl Fn(usize) -> bool,
     fixed: Vec<Dof>,
 ) -> Model {
-    let nodes = (0..=n)
-        .map(|i| {
-            let t = i as f64 / n as f64;
-            Node {
-                id: i as u64 + 1,
-                coords: [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k])),
-            }
-        })
-        .collect();
-    let elements = (0..n)
-        .map(|i| {
-            let mut nodes = [i as u64 + 1, i as u64 + 2];
-            if reversed(i) {
-                nodes.reverse();
-            }
-            match kind {
-                Kind::Planar => Element::PlanarBeam(PlanarBeam {
-                    id: i + 1,
-                    nodes,
-                    properties: kind.properties(),
-                }),
-                Kind::Beam(_) => Element::Beam(Beam {
-                    id: i + 1,
-                    nodes,
-                    properties: kind.properties(),
-                    orientation,
-                }),
-            }
-        })
-        .collect();
-    Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap()
+    let line = BeamLine {
+        cells: n,
+        start: a,
+        end: b,
+        kind: kind.line_kind(orientation),
+        properties: kind.properties(),
+    };
+    Model::new(
+        line.nodes(),
+        line.elements_reversed(reversed),
+        BTreeMap::new(),
+        fixed,
+        None,
+    )
+    .unwrap()
 }
 
 /// A line of `n` elements of `kind` along global x from the origin to
@@ -174,6 +166,16 @@ pub(crate) fn along_x(kind: Kind, n: usize, l: f64, fixed: Vec<Dof>) -> Model {
 /// Where a cantilever lies: its clamped end, its unit direction and the
 /// orientation vector of its elements.
 pub(crate) type Placement = ([f64; 3], [f64; 3], [f64; 3]);
+
+/// The shear deflection of beam theory, `v / (G A_s)` for a shear term `v`
+/// (shear force times length) on the shear area `area`: zero for the
+/// kinds that do not deform in shear (Euler-Bernoulli).
+pub(crate) fn shear_deflection(kind: Kind, v: f64, area: f64) -> f64 {
+    match kind {
+        Kind::Beam(BeamTheory::Timoshenko) => v / (kind.properties().material.shear_modulus * area),
+        Kind::Planar | Kind::Beam(BeamTheory::EulerBernoulli) => 0.0,
+    }
+}
 
 /// The skew placement of the 3D cantilevers: no axis of the element frame
 /// along a global one.

@@ -3,10 +3,9 @@
 
 use crate::beams::*;
 use crate::common::{dense_matrices, load_vector, solve};
-use flexbody_fem::element::Beam;
-use flexbody_fem::{BeamProperties, BeamTheory, Dof, DofKind, Element, Model, SectionForces};
+use flexbody_fem::mesh::BeamLine;
+use flexbody_fem::{BeamProperties, BeamTheory, Dof, DofKind, SectionForces};
 use flexbody_recover::{harmonic_section_forces, section_forces};
-use std::collections::BTreeMap;
 
 /// (d) A free beam accelerated by loads at its end, in both bending planes,
 /// axially and in torsion: the recovered forces `K_e u_e + M_e a_e` must
@@ -26,30 +25,16 @@ fn free_beam_accelerated_by_end_loads_matches_dalembert() {
         (Kind::Beam(BeamTheory::Timoshenko), None),
     ];
     for (kind, properties) in cases {
-        let mut model = along_x(kind, n, l, vec![]);
-        let has_own = properties.is_some();
         let p = properties.unwrap_or_else(|| kind.properties());
-        if has_own {
-            let elements = model
-                .elements()
-                .iter()
-                .map(|e| match e {
-                    Element::Beam(b) => Element::Beam(Beam {
-                        properties: p.clone(),
-                        ..b.clone()
-                    }),
-                    e => e.clone(),
-                })
-                .collect();
-            model = Model::new(
-                model.nodes().to_vec(),
-                elements,
-                BTreeMap::new(),
-                vec![],
-                None,
-            )
-            .unwrap();
+        let model = BeamLine {
+            cells: n,
+            start: [0.0; 3],
+            end: [l, 0.0, 0.0],
+            kind: kind.line_kind([0.0, 1.0, 0.0]),
+            properties: p.clone(),
         }
+        .model(vec![])
+        .unwrap();
         let planar = matches!(kind, Kind::Planar);
         let loads = if planar {
             [0.0, 0.0, loads[2], 0.0]

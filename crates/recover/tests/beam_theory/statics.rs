@@ -53,8 +53,7 @@ fn cantilever_with_tip_loads_matches_statics_and_tip_deflection() {
         // Tip deflection (beam theory; Timoshenko adds the shear term).
         let s = &p.section;
         let g = p.material.shear_modulus;
-        let timoshenko = matches!(kind, Kind::Beam(BeamTheory::Timoshenko));
-        let shear = |f: f64, area: f64| if timoshenko { f * l / (g * area) } else { 0.0 };
+        let shear = |f: f64, area: f64| shear_deflection(kind, f * l, area);
         let [fx, fy, fz, mx, my, mz] = local;
         let want_tip = [
             fx * l / (E * s.area),
@@ -248,14 +247,8 @@ fn cantilever_under_line_loads_matches_beam_theory_at_the_nodes() {
         // Nodal displacements and rotations against beam theory.
         let s = &p.section;
         let g = p.material.shear_modulus;
-        let timoshenko = matches!(kind, Kind::Beam(BeamTheory::Timoshenko));
-        let shear = |q: f64, area: f64, x: f64| {
-            if timoshenko {
-                q * (l * x - x * x / 2.0) / (g * area)
-            } else {
-                0.0
-            }
-        };
+        let shear =
+            |q: f64, area: f64, x: f64| shear_deflection(kind, q * (l * x - x * x / 2.0), area);
         let deflection = |q: f64, i: f64, x: f64| {
             q * x * x * (6.0 * l * l - 4.0 * l * x + x * x) / (24.0 * E * i)
         };
@@ -345,15 +338,8 @@ fn simply_supported_beam_with_a_central_load() {
         // measured 1e-13.
         assert!(dev < 2e-12, "{kind:?}: section forces deviate by {dev:e}");
         let s = &p.section;
-        let g = p.material.shear_modulus;
-        let timoshenko = matches!(kind, Kind::Beam(BeamTheory::Timoshenko));
         let centre_deflection = |f: f64, i: f64, area: f64| {
-            f * l.powi(3) / (48.0 * E * i)
-                + if timoshenko {
-                    f * l / (4.0 * g * area)
-                } else {
-                    0.0
-                }
+            f * l.powi(3) / (48.0 * E * i) + shear_deflection(kind, f * l / 4.0, area)
         };
         let m = node_motion(&model, &u, centre);
         let wz = centre_deflection(pz, s.iy, s.shear_area_z);

@@ -71,14 +71,22 @@ fn point_model() -> (Substructure, ReducedBody) {
     (sub, body)
 }
 
-#[test]
-fn invariants_of_point_masses_have_their_closed_forms() {
-    let (sub, body) = point_model();
+/// The elastic basis of a body reduced from `sub`, which must float
+/// (its basis holds the rigid-body motions), and its mass invariants.
+fn floating_invariants(
+    (sub, body): (Substructure, ReducedBody),
+) -> (Substructure, ElasticBasis, MassInvariants) {
     let basis = elastic_basis(&sub, &body).unwrap();
     assert!(basis.floating);
+    let inv = mass_invariants(&sub, &basis).unwrap();
+    (sub, basis, inv)
+}
+
+#[test]
+fn invariants_of_point_masses_have_their_closed_forms() {
+    let (_, basis, inv) = floating_invariants(point_model());
     let nq = basis.shapes.ncols();
     assert_eq!(nq, 3);
-    let inv = mass_invariants(&sub, &basis).unwrap();
     let total: f64 = POINTS.iter().map(|p| p.1).sum();
     assert!((inv.mass - total).abs() < 1e-13 * total);
     for a in 0..3 {
@@ -196,10 +204,7 @@ fn invariants_of_a_solid_equal_their_products_with_the_full_mass_matrix() {
     // direction of two nodes only, and equally in x, y and z, so
     // int a_i b_j dm is a^T M g with g carrying b's j-components in the
     // i-slots: every invariant of the module docs from M itself.
-    let (sub, body) = solid_block();
-    let basis = elastic_basis(&sub, &body).unwrap();
-    assert!(basis.floating);
-    let inv = mass_invariants(&sub, &basis).unwrap();
+    let (sub, basis, inv) = floating_invariants(solid_block());
     let nq = basis.shapes.ncols();
     assert_eq!(nq, 6);
     let map = &sub.dof_map;

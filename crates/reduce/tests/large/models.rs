@@ -1,7 +1,6 @@
 //! Solid bars and blocks built in code, springs to ground, and a
 //! comparison of frequency lists.
 
-use flexbody_fem::element::solid::topology::hex_cell;
 use flexbody_fem::element::solid::{Solid, SolidKind};
 use flexbody_fem::mesh::BrickBlock;
 use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node, Substructure};
@@ -118,29 +117,12 @@ pub(crate) fn springs_at(nodes: &[u64], stiffness: f64) -> Vec<flexbody_reduce::
 /// A bar of `nx` C3D8 elements (0.1 x 0.05 x 0.05 m each) whose element
 /// `e` (from 0) has the density `density(e)`.
 pub(crate) fn bar_of_densities(nx: usize, density: impl Fn(usize) -> f64) -> Substructure {
-    let id = |i: usize, j: usize, k: usize| (1 + i + (nx + 1) * (j + 2 * k)) as u64;
-    let mut nodes = Vec::new();
-    for k in 0..2 {
-        for j in 0..2 {
-            for i in 0..=nx {
-                let x = [0.1 * i as f64, 0.05 * j as f64, 0.05 * k as f64];
-                nodes.push(Node {
-                    id: id(i, j, k),
-                    coords: x,
-                });
-            }
-        }
-    }
-    let elements = (0..nx)
-        .map(|i| {
-            Element::Solid(Solid {
-                id: i + 1,
-                kind: SolidKind::C3D8,
-                nodes: hex_cell(i, 0, 0, |[a, b, c]| id(a, b, c)),
-                material: Material::new(2.1e11, 0.3, density(i)).unwrap(),
-            })
-        })
-        .collect();
-    let model = Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap();
+    let bar = BrickBlock {
+        cells: [nx, 1, 1],
+        origin: [0.0; 3],
+        size: [0.1 * nx as f64, 0.05, 0.05],
+    };
+    let elements = bar.elements_of(|e| Material::new(2.1e11, 0.3, density(e)).unwrap());
+    let model = Model::new(bar.nodes(), elements, BTreeMap::new(), vec![], None).unwrap();
     Substructure::from_model(&model).unwrap()
 }

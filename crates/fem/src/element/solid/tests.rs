@@ -37,25 +37,7 @@ pub(super) fn solid(kind: SolidKind) -> Solid {
     }
 }
 
-/// Deterministic pseudo-random numbers in `[-1, 1)` (xorshift).
-pub(super) struct Random(u64);
-
-impl Random {
-    pub(super) fn new(seed: u64) -> Self {
-        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-
-    pub(super) fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-
-    fn vec3(&mut self) -> [f64; 3] {
-        [self.next(), self.next(), self.next()]
-    }
-}
+pub(super) use crate::mesh::Xorshift as Random;
 
 /// `A x + b`: a general (sheared, stretched, rotated) affine map.
 const AFFINE: [[f64; 3]; 3] = [[0.9, 0.2, -0.1], [0.15, 0.7, 0.12], [-0.05, 0.1, 0.6]];
@@ -136,6 +118,20 @@ fn exact_stress(b: [[f64; 3]; 3]) -> [f64; 6] {
         mu * (b[1][2] + b[2][1]),
         mu * (b[2][0] + b[0][2]),
     ]
+}
+
+/// Asserts that every component of the stress `s` is the exact `sigma` to
+/// 1e-10 of the largest component of `sigma`; `what` names the place.
+fn assert_exact_stress(s: &[f64; 6], sigma: &[f64; 6], what: std::fmt::Arguments) {
+    let s_max = sigma.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+    for c in 0..6 {
+        assert!(
+            (s[c] - sigma[c]).abs() <= 1e-10 * s_max,
+            "{what} component {c}: {} vs {}",
+            s[c],
+            sigma[c]
+        );
+    }
 }
 
 const GRADIENT: [[f64; 3]; 3] = [
@@ -310,4 +306,4 @@ fn mass_rule_is_the_stiffness_rule_as_in_calculix() {
 // ---------------------------------------------------------------------------
 // Meshes
 
-pub(super) use super::topology::{HEX20_EDGES as HEX_EDGES, HEX_CORNERS};
+pub(super) use super::topology::HEX20_EDGES as HEX_EDGES;

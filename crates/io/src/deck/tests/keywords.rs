@@ -47,81 +47,157 @@ fn ignored_unknown_and_refused_keywords() {
 
 #[test]
 fn bad_decks_name_the_line_and_the_culprit() {
-    // A node referenced by an element but never defined.
-    let text = BEAM.replace("2, 2, 3", "2, 2, 99");
-    assert_error(&text, "2, 2, 99", &["element 2", "node 99"]);
-    // Wrong node count for the type.
-    let text = BRICKS.replace("1, 1, 2, 3, 4, 5, 6, 7, 8", "1, 1, 2, 3, 4, 5, 6, 7");
-    assert_error(
-        &text,
-        "1, 1, 2, 3, 4, 5, 6, 7",
-        &["element 1", "7 nodes", "C3D8 needs 8"],
-    );
-    let text = BEAM.replace("1, 1, 2\n", "1, 1, 2, 3\n");
-    assert_error(
-        &text,
-        "1, 1, 2, 3",
-        &["element 1", "3 nodes", "B31 needs 2"],
-    );
-    // A section naming a material that does not exist.
-    let text = BRICKS.replace("MATERIAL=STEEL", "MATERIAL=ALU");
-    assert_error(&text, "*SOLID SECTION", &["material 'ALU'", "not defined"]);
-    // A solid element without a section.
-    let text = BRICKS.replace("lower, 2", "lower");
-    assert_error(
-        &text,
-        "2, 5, 6, 7, 8",
-        &["element 2", "C3D8", "*SOLID SECTION"],
-    );
-    // Duplicate ids.
-    let text = BRICKS.replace("3, 1, 1, 0", "2, 1, 1, 0");
-    assert_error(
-        &text,
-        "2, 1, 1, 0",
-        &["node 2 is defined twice", "first on line 6"],
-    );
-    let text = BRICKS.replace("2, 5, 6, 7, 8", "1, 5, 6, 7, 8");
     let first = format!(
         "first on line {}",
         line_of(BRICKS, "1, 1, 2, 3, 4, 5, 6, 7, 8")
     );
-    assert_error(
-        &text,
-        "1, 5, 6, 7, 8",
-        &["element 1 is defined twice", &first],
-    );
-    // Unknown and unsupported element types.
-    let text = BRICKS.replace("*Element, type=c3d8", "*ELEMENT, TYPE=S4");
-    assert_error(&text, "TYPE=S4", &["element type S4 is not supported"]);
-    let text = BRICKS.replace("*Element, type=c3d8", "*ELEMENT, TYPE=C3D8I");
-    assert_error(&text, "TYPE=C3D8I", &["C3D8I", "incompatible modes"]);
-    // A missing include file.
-    let text = BRICKS.replace("** nodes", "*INCLUDE, INPUT=no_such_file.inp");
-    assert_error(&text, "*INCLUDE", &["no_such_file.inp", "cannot read"]);
-    // A material without density, used by a section.
-    let text = BRICKS.replace("*DENSITY\n7850.\n", "");
-    assert_error(&text, "*MATERIAL", &["material 'STEEL'", "*DENSITY"]);
-    // Anisotropic elasticity.
-    let text = BRICKS.replace("*ELASTIC\n", "*ELASTIC, TYPE=ORTHO\n");
-    assert_error(&text, "*ELASTIC", &["TYPE=ORTHO", "isotropic"]);
-    // A prescribed displacement.
-    let text = BRICKS.replace("BASE, 1, 6", "BASE, 3, 3, 0.001");
-    assert_error(&text, "BASE, 3, 3", &["prescribed displacement"]);
-    // A boundary condition or a set on an undefined node.
-    let text = BRICKS.replace("BASE, 1, 6", "13, 1, 3");
-    assert_error(&text, "13, 1, 3", &["node 13"]);
-    let text = BRICKS.replace("9, 10, 11, 12,", "9, 10, 11, 12, 77");
-    assert_error(&text, "9, 10, 11, 12, 77", &["node set 'TOP'", "node 77"]);
-    // A section on a set that does not exist; a set name never defined.
-    let text = BRICKS.replace("ELSET=ALL, MATERIAL", "ELSET=NONE, MATERIAL");
-    assert_error(&text, "*SOLID SECTION", &["element set 'NONE'"]);
-    let text = BRICKS.replace("BASE, top", "BASE, side");
-    assert_error(&text, "BASE, side", &["node set 'SIDE' is not defined"]);
-    // Numbers that are not numbers.
-    let text = BEAM.replace("2, 0.5, 0, 0", "2, 0.5, zero, 0");
-    assert_error(&text, "2, 0.5, zero", &["node 2", "coordinate 2", "'zero'"]);
-    let text = BEAM.replace("2.1E11, 0.3", "2.1E11, 0.6");
-    assert_error(&text, "2.1E11, 0.6", &["material 'STEEL'", "Poisson"]);
+    // The deck, the text replaced in it and its replacement, the line the
+    // error names and words of its message.
+    let cases: [(&str, &str, &str, &str, &[&str]); 19] = [
+        // A node referenced by an element but never defined.
+        (
+            BEAM,
+            "2, 2, 3",
+            "2, 2, 99",
+            "2, 2, 99",
+            &["element 2", "node 99"],
+        ),
+        // Wrong node count for the type.
+        (
+            BRICKS,
+            "1, 1, 2, 3, 4, 5, 6, 7, 8",
+            "1, 1, 2, 3, 4, 5, 6, 7",
+            "1, 1, 2, 3, 4, 5, 6, 7",
+            &["element 1", "7 nodes", "C3D8 needs 8"],
+        ),
+        (
+            BEAM,
+            "1, 1, 2\n",
+            "1, 1, 2, 3\n",
+            "1, 1, 2, 3",
+            &["element 1", "3 nodes", "B31 needs 2"],
+        ),
+        // A section naming a material that does not exist.
+        (
+            BRICKS,
+            "MATERIAL=STEEL",
+            "MATERIAL=ALU",
+            "*SOLID SECTION",
+            &["material 'ALU'", "not defined"],
+        ),
+        // A solid element without a section.
+        (
+            BRICKS,
+            "lower, 2",
+            "lower",
+            "2, 5, 6, 7, 8",
+            &["element 2", "C3D8", "*SOLID SECTION"],
+        ),
+        // Duplicate ids.
+        (
+            BRICKS,
+            "3, 1, 1, 0",
+            "2, 1, 1, 0",
+            "2, 1, 1, 0",
+            &["node 2 is defined twice", "first on line 6"],
+        ),
+        (
+            BRICKS,
+            "2, 5, 6, 7, 8",
+            "1, 5, 6, 7, 8",
+            "1, 5, 6, 7, 8",
+            &["element 1 is defined twice", &first],
+        ),
+        // Unknown and unsupported element types.
+        (
+            BRICKS,
+            "*Element, type=c3d8",
+            "*ELEMENT, TYPE=S4",
+            "TYPE=S4",
+            &["element type S4 is not supported"],
+        ),
+        (
+            BRICKS,
+            "*Element, type=c3d8",
+            "*ELEMENT, TYPE=C3D8I",
+            "TYPE=C3D8I",
+            &["C3D8I", "incompatible modes"],
+        ),
+        // A missing include file.
+        (
+            BRICKS,
+            "** nodes",
+            "*INCLUDE, INPUT=no_such_file.inp",
+            "*INCLUDE",
+            &["no_such_file.inp", "cannot read"],
+        ),
+        // A material without density, used by a section.
+        (
+            BRICKS,
+            "*DENSITY\n7850.\n",
+            "",
+            "*MATERIAL",
+            &["material 'STEEL'", "*DENSITY"],
+        ),
+        // Anisotropic elasticity.
+        (
+            BRICKS,
+            "*ELASTIC\n",
+            "*ELASTIC, TYPE=ORTHO\n",
+            "*ELASTIC",
+            &["TYPE=ORTHO", "isotropic"],
+        ),
+        // A prescribed displacement.
+        (
+            BRICKS,
+            "BASE, 1, 6",
+            "BASE, 3, 3, 0.001",
+            "BASE, 3, 3",
+            &["prescribed displacement"],
+        ),
+        // A boundary condition or a set on an undefined node.
+        (BRICKS, "BASE, 1, 6", "13, 1, 3", "13, 1, 3", &["node 13"]),
+        (
+            BRICKS,
+            "9, 10, 11, 12,",
+            "9, 10, 11, 12, 77",
+            "9, 10, 11, 12, 77",
+            &["node set 'TOP'", "node 77"],
+        ),
+        // A section on a set that does not exist; a set name never defined.
+        (
+            BRICKS,
+            "ELSET=ALL, MATERIAL",
+            "ELSET=NONE, MATERIAL",
+            "*SOLID SECTION",
+            &["element set 'NONE'"],
+        ),
+        (
+            BRICKS,
+            "BASE, top",
+            "BASE, side",
+            "BASE, side",
+            &["node set 'SIDE' is not defined"],
+        ),
+        // Numbers that are not numbers.
+        (
+            BEAM,
+            "2, 0.5, 0, 0",
+            "2, 0.5, zero, 0",
+            "2, 0.5, zero",
+            &["node 2", "coordinate 2", "'zero'"],
+        ),
+        (
+            BEAM,
+            "2.1E11, 0.3",
+            "2.1E11, 0.6",
+            "2.1E11, 0.6",
+            &["material 'STEEL'", "Poisson"],
+        ),
+    ];
+    for (deck, from, to, line, words) in cases {
+        assert_error(&deck.replace(from, to), line, words);
+    }
     // A point mass on a node no element gives a DOF.
     let text = BEAM.replace("3, 1.0, 0, 0", "3, 1.0, 0, 0\n4, 2.0, 0, 0")
         + "*ELEMENT, TYPE=MASS, ELSET=M\n20, 4\n*MASS, ELSET=M\n1.0\n";

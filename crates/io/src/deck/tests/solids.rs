@@ -2,6 +2,7 @@
 //! continuation lines, refused zero-volume and inverted solids.
 
 use super::*;
+use flexbody_fem::mesh::SolidBlock;
 
 #[test]
 fn c3d8_bricks_with_sets_and_boundary() {
@@ -47,24 +48,21 @@ fn c3d8_bricks_with_sets_and_boundary() {
     );
 }
 
-/// Nodes of the 2 m cube as a C3D20 (Abaqus order: corners, then the
-/// mid-side nodes of edges 1-2, 2-3, 3-4, 4-1, 5-6, 6-7, 7-8, 8-5, 1-5,
-/// 2-6, 3-7, 4-8).
+/// Nodes of the 2 m cube as a C3D20 (a one-cell [`SolidBlock`], in
+/// Abaqus order: corners, then the mid-side nodes of edges 1-2, 2-3, 3-4,
+/// 4-1, 5-6, 6-7, 7-8, 8-5, 1-5, 2-6, 3-7, 4-8).
 fn c3d20_nodes() -> String {
-    let corners = [
-        [0.0, 0.0, 0.0],
-        [2.0, 0.0, 0.0],
-        [2.0, 2.0, 0.0],
-        [0.0, 2.0, 0.0],
-        [0.0, 0.0, 2.0],
-        [2.0, 0.0, 2.0],
-        [2.0, 2.0, 2.0],
-        [0.0, 2.0, 2.0],
-    ];
-    let mut points: Vec<[f64; 3]> = corners.to_vec();
-    for (a, b) in flexbody_fem::element::solid::topology::HEX20_EDGES {
-        points.push([0, 1, 2].map(|k| 0.5 * (corners[a][k] + corners[b][k])));
+    let cube = SolidBlock {
+        kind: SolidKind::C3D20,
+        cells: [1, 1, 1],
+        origin: [0.0; 3],
+        size: [2.0; 3],
+        corner_distortion: 0.0,
+        edge_distortion: 0.0,
+        seed: 1,
     }
+    .mesh();
+    let points: Vec<[f64; 3]> = cube.elements[0].iter().map(|&n| cube.coords[n]).collect();
     let mut s = String::from("*NODE\n");
     for (i, p) in points.iter().enumerate() {
         s += &format!("{}, {}, {}, {}\n", i + 1, p[0], p[1], p[2]);

@@ -5,10 +5,11 @@
 //! Bar: L = 2 m, square 0.1 m x 0.1 m section (L/h = 20), clamped (all
 //! three translations) over the whole end face x = 0.
 
-use super::{steel, E, HEX_CORNERS, HEX_EDGES, NU, RHO};
+use super::{steel, E, NU, RHO};
 use crate::dof::{Dof, DofKind};
-use crate::element::{Element, Solid, SolidKind};
-use crate::model::{Model, Node, NodeId};
+use crate::element::SolidKind;
+use crate::mesh::SolidBlock;
+use crate::model::{Model, NodeId};
 use crate::{assemble, SystemMatrices};
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
@@ -20,59 +21,36 @@ const LENGTH: f64 = 2.0;
 const SIDE: f64 = 0.1;
 
 /// A structured bar of `n[0] x n[1] x n[2]` C3D20 elements over
-/// `[0, L] x [0, h] x [0, h]`, clamped at x = 0. Nodes are numbered over the
-/// half-step grid (corners and mid-edge points); returns the model and the
-/// node id of each half-step grid point it uses.
+/// `[0, L] x [0, h] x [0, h]` (a [`SolidBlock`]), clamped at x = 0; returns
+/// the model and the node id at each point of the half-step grid (corners
+/// and mid-edge points) it uses.
 fn bar(n: [usize; 3]) -> (Model, HashMap<[usize; 3], NodeId>) {
-    let size = [LENGTH, SIDE, SIDE];
-    let mut ids = HashMap::new();
-    let mut nodes = Vec::new();
-    let mut fixed = Vec::new();
-    for k in 0..=2 * n[2] {
-        for j in 0..=2 * n[1] {
-            for i in 0..=2 * n[0] {
-                let g = [i, j, k];
-                // Corners and mid-edge points: at most one odd index.
-                if g.iter().filter(|&&v| v % 2 == 1).count() > 1 {
-                    continue;
-                }
-                let id = nodes.len() as NodeId + 1;
-                let coords = [0, 1, 2].map(|c| size[c] * g[c] as f64 / (2 * n[c]) as f64);
-                nodes.push(Node { id, coords });
-                ids.insert(g, id);
-                if i == 0 {
-                    fixed.extend([DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| Dof::new(id, d)));
-                }
-            }
-        }
+    let mesh = SolidBlock {
+        kind: SolidKind::C3D20,
+        cells: n,
+        origin: [0.0; 3],
+        size: [LENGTH, SIDE, SIDE],
+        corner_distortion: 0.0,
+        edge_distortion: 0.0,
+        seed: 1,
     }
-    let mut elements = Vec::new();
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                let corner = |bits: usize| {
-                    [
-                        2 * i + 2 * (bits & 1),
-                        2 * j + 2 * ((bits >> 1) & 1),
-                        2 * k + 2 * (bits >> 2),
-                    ]
-                };
-                let corners: Vec<[usize; 3]> = HEX_CORNERS.iter().map(|&b| corner(b)).collect();
-                let mut element_nodes: Vec<NodeId> = corners.iter().map(|g| ids[g]).collect();
-                for (a, b) in HEX_EDGES {
-                    let g = [0, 1, 2].map(|c| (corners[a][c] + corners[b][c]) / 2);
-                    element_nodes.push(ids[&g]);
-                }
-                elements.push(Element::Solid(Solid {
-                    id: elements.len() + 1,
-                    kind: SolidKind::C3D20,
-                    nodes: element_nodes,
-                    material: steel(),
-                }));
-            }
-        }
-    }
-    let model = Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap();
+    .mesh();
+    let ids: HashMap<[usize; 3], NodeId> = mesh
+        .reference
+        .iter()
+        .enumerate()
+        .map(|(node, r)| {
+            let g = [0, 1, 2].map(|c| (r[c] * (2 * n[c]) as f64).round() as usize);
+            (g, node as NodeId + 1)
+        })
+        .collect();
+    let fixed = ids
+        .iter()
+        .filter(|(g, _)| g[0] == 0)
+        .flat_map(|(_, &id)| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| Dof::new(id, d)))
+        .collect();
+    let elements = mesh.elements(&steel());
+    let model = Model::new(mesh.nodes(), elements, BTreeMap::new(), fixed, None).unwrap();
     (model, ids)
 }
 

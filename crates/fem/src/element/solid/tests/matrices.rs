@@ -5,7 +5,7 @@ use super::{distorted, dot, max_abs, solid, AFFINE, HEX_EDGES, RHO};
 use crate::element::mat_vec;
 use crate::element::solid::shape::{self};
 use crate::element::solid::SolidKind;
-use faer::{Mat, Side};
+use faer::Side;
 
 /// The six rigid-body motions (translations, small rotations about the
 /// origin) at the given points.
@@ -76,18 +76,23 @@ fn matrices_are_exactly_symmetric() {
     }
 }
 
-/// Eigenvalues of a dense symmetric matrix, ascending.
-fn eigenvalues(a: &Mat<f64>) -> Vec<f64> {
-    a.self_adjoint_eigenvalues(Side::Lower).unwrap()
+/// The eigenvalues (ascending) of the stiffness and of the mass matrix of
+/// an element of `kind` on [`distorted`]`(kind, seed, 0.15)`, and the
+/// largest of each.
+fn spectra(kind: SolidKind, seed: u64) -> [(Vec<f64>, f64); 2] {
+    let x = distorted(kind, seed, 0.15);
+    let em = solid(kind).matrices(&x).unwrap();
+    [&em.stiffness, &em.mass].map(|a| {
+        let lam = a.self_adjoint_eigenvalues(Side::Lower).unwrap();
+        let top = *lam.last().unwrap();
+        (lam, top)
+    })
 }
 
 #[test]
 fn stiffness_is_positive_semidefinite_with_six_rigid_modes() {
     for kind in SolidKind::ALL {
-        let x = distorted(kind, 31, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let lam = eigenvalues(&em.stiffness);
-        let top = *lam.last().unwrap();
+        let [(lam, top), _] = spectra(kind, 31);
         let tol = 1e-10 * top;
         assert!(lam[0] > -tol, "{kind:?}: negative eigenvalue {:e}", lam[0]);
         let zeros = lam.iter().filter(|l| l.abs() <= tol).count();
@@ -109,10 +114,7 @@ fn stiffness_is_positive_semidefinite_with_six_rigid_modes() {
 #[test]
 fn mass_is_positive_semidefinite() {
     for kind in SolidKind::ALL {
-        let x = distorted(kind, 37, 0.15);
-        let em = solid(kind).matrices(&x).unwrap();
-        let lam = eigenvalues(&em.mass);
-        let top = *lam.last().unwrap();
+        let [_, (lam, top)] = spectra(kind, 37);
         assert!(
             lam[0] > -1e-12 * top,
             "{kind:?}: negative eigenvalue {:e}",

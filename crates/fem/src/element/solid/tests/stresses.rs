@@ -1,28 +1,21 @@
 //! Nodal stresses: exact for a linear field on distorted elements,
 //! extrapolated in a C3D8, and a wrong displacement length refused.
 
-use super::{distorted, exact_stress, linear_field, solid, E, GRADIENT, NU, OFFSET};
+use super::{assert_exact_stress, distorted, exact_stress, linear_field, solid};
+use super::{E, GRADIENT, NU, OFFSET};
 use crate::element::solid::shape::{self};
 use crate::element::solid::SolidKind;
 
 #[test]
 fn nodal_stresses_of_a_linear_field_are_exact_on_distorted_elements() {
     let sigma = exact_stress(GRADIENT);
-    let s_max = sigma.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
     for kind in SolidKind::ALL {
         let x = distorted(kind, 17, 0.15);
         let u = linear_field(OFFSET, GRADIENT, &x);
         let stresses = solid(kind).nodal_stresses(&x, &u).unwrap();
         assert_eq!(stresses.len(), kind.node_count());
         for (a, s) in stresses.iter().enumerate() {
-            for c in 0..6 {
-                assert!(
-                    (s[c] - sigma[c]).abs() <= 1e-10 * s_max,
-                    "{kind:?} node {a} component {c}: {} vs {}",
-                    s[c],
-                    sigma[c]
-                );
-            }
+            assert_exact_stress(s, &sigma, format_args!("{kind:?} node {a}"));
         }
     }
 }
@@ -41,16 +34,13 @@ fn nodal_stresses_extrapolate_a_linear_stress_field_in_a_c3d8() {
     for (p, sp) in x.iter().zip(&s) {
         let sxx = (lambda + 2.0 * mu) * c * p[1];
         let sxy = mu * c * p[0];
-        assert!(
-            (sp[0] - sxx).abs() < 1e-9 * sxx.abs(),
-            "{p:?}: {} vs {sxx}",
-            sp[0]
-        );
-        assert!(
-            (sp[3] - sxy).abs() < 1e-9 * sxy.abs(),
-            "{p:?}: {} vs {sxy}",
-            sp[3]
-        );
+        for (component, want) in [(0, sxx), (3, sxy)] {
+            assert!(
+                (sp[component] - want).abs() < 1e-9 * want.abs(),
+                "{p:?} component {component}: {} vs {want}",
+                sp[component]
+            );
+        }
     }
 }
 
