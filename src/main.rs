@@ -161,11 +161,13 @@ enum Command {
         model: PathBuf,
         #[command(flatten)]
         matrices: MatrixArgs,
-        /// Number of modes, lowest first (all of them where the model has fewer).
-        #[arg(long, default_value_t = 10, conflicts_with = "fmax")]
-        count: usize,
-        /// Instead of --count: every mode below this frequency (Hz), counted
-        /// by the Sturm sequence.
+        /// Number of modes, lowest first (all of them where the model has
+        /// fewer); default 10 without --fmax. With --fmax, at most this many
+        /// of the modes below it.
+        #[arg(long, visible_alias = "modes")]
+        count: Option<usize>,
+        /// Every mode below this frequency (Hz), counted by the Sturm
+        /// sequence; with --count N, only the lowest N of them.
         #[arg(long)]
         fmax: Option<f64>,
         /// Print {"dofs":..,"frequencies_hz":[..],"residuals":[..]}.
@@ -274,12 +276,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             fmax,
             json,
         } => {
-            let band = match fmax {
-                Some(f) if f.is_finite() && f > 0.0 => red::modes::Wanted::below_hz(f),
-                Some(f) => anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}"),
-                None if count == 0 => anyhow::bail!("--count must be at least 1"),
-                None => red::modes::Wanted::Lowest(count),
-            };
+            let band = modes_wanted(count, fmax)?;
             run_modes(&model, &matrices, band, json, budget, progress)
         }
         Command::Info {
@@ -444,6 +441,23 @@ fn run_reduce(
         }
     }
     Ok(())
+}
+
+/// The modes `flexbody modes` computes: `--count` (default 10), every one
+/// below `--fmax`, or, with both given, the lowest `--count` below `--fmax`.
+fn modes_wanted(count: Option<usize>, fmax: Option<f64>) -> Result<red::modes::Wanted> {
+    use red::modes::Wanted;
+    if count == Some(0) {
+        anyhow::bail!("--count must be at least 1");
+    }
+    Ok(match (count, fmax) {
+        (_, Some(f)) if !(f.is_finite() && f > 0.0) => {
+            anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}")
+        }
+        (None, Some(f)) => Wanted::below_hz(f),
+        (Some(count), Some(f)) => Wanted::lowest_below_hz(count, f),
+        (count, None) => Wanted::Lowest(count.unwrap_or(10)),
+    })
 }
 
 fn run_modes(

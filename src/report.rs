@@ -132,10 +132,7 @@ pub fn natural_frequencies(
     progress: &dyn Progress,
 ) -> Result<NaturalFrequencies, ReduceError> {
     let dofs = component.sub.len();
-    let band = match band {
-        Wanted::Lowest(count) => Wanted::Lowest(count.min(dofs)),
-        other => other,
-    };
+    let band = band.map_count(|count| count.min(dofs));
     // A free body's rigid-body motions (eq. 12-13), against which its zero
     // frequencies are counted (from geometry: no products with K or M on
     // the way to the solver); none where it is held.

@@ -4,6 +4,7 @@
 mod calculix;
 mod cli;
 mod cli_errors;
+mod cli_lowest_below;
 mod cli_modes;
 mod decks;
 mod errors;

@@ -25,13 +25,77 @@ pub enum Wanted {
     /// All eigenpairs with `lambda` below this bound (rad^2/s^2; a frequency
     /// `f` in Hz is the bound `(2 pi f)^2`, [`Wanted::below_hz`]).
     Below(f64),
+    /// The lowest `count` eigenpairs, of those with `lambda` below `bound`
+    /// ("the lowest 20 modes, but only those below 500 Hz",
+    /// [`Wanted::lowest_below_hz`]): at most `count` pairs. The same pairs
+    /// as `Below(bound)` cut to its lowest `count`, or as `Lowest(count)`
+    /// without those at or above `bound`.
+    LowestBelow { count: usize, bound: f64 },
 }
 
 impl Wanted {
     /// Every eigenpair below the frequency `f` (Hz): `lambda < (2 pi f)^2`.
     pub fn below_hz(f: f64) -> Self {
-        Wanted::Below((2.0 * std::f64::consts::PI * f).powi(2))
+        Wanted::Below(lambda_of_hz(f))
     }
+
+    /// The lowest `count` eigenpairs below the frequency `f` (Hz):
+    /// [`Wanted::LowestBelow`] with `bound = (2 pi f)^2`.
+    pub fn lowest_below_hz(count: usize, f: f64) -> Self {
+        Wanted::LowestBelow {
+            count,
+            bound: lambda_of_hz(f),
+        }
+    }
+
+    /// The most pairs wanted, where a count caps them.
+    pub fn count(self) -> Option<usize> {
+        match self {
+            Wanted::Lowest(count) | Wanted::LowestBelow { count, .. } => Some(count),
+            Wanted::Below(_) => None,
+        }
+    }
+
+    /// The bound the pairs' `lambda` lie below, where there is one.
+    pub fn bound(self) -> Option<f64> {
+        match self {
+            Wanted::Below(bound) | Wanted::LowestBelow { bound, .. } => Some(bound),
+            Wanted::Lowest(_) => None,
+        }
+    }
+
+    /// Whether the request is for no pair at all (a count of 0).
+    pub fn is_none(self) -> bool {
+        self.count() == Some(0)
+    }
+
+    /// The same request with its count (if it has one) changed by `f`.
+    pub fn map_count(self, f: impl FnOnce(usize) -> usize) -> Self {
+        match self {
+            Wanted::Lowest(count) => Wanted::Lowest(f(count)),
+            Wanted::LowestBelow { count, bound } => Wanted::LowestBelow {
+                count: f(count),
+                bound,
+            },
+            below => below,
+        }
+    }
+
+    /// How many of the eigenvalues `ascending` (the lowest of a pencil,
+    /// ascending) the request keeps: the first ones, up to its count and
+    /// below its bound.
+    pub fn kept(self, ascending: &[f64]) -> usize {
+        let below = match self.bound() {
+            Some(bound) => ascending.iter().filter(|&&l| l < bound).count(),
+            None => ascending.len(),
+        };
+        self.count().map_or(below, |count| count.min(below))
+    }
+}
+
+/// The eigenvalue `(2 pi f)^2` of the frequency `f` (Hz).
+fn lambda_of_hz(f: f64) -> f64 {
+    (2.0 * std::f64::consts::PI * f).powi(2)
 }
 
 /// Eigenvalues (ascending) and M-orthonormal eigenvectors (as columns).

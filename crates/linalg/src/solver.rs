@@ -55,9 +55,10 @@ impl Solver {
         match self {
             Solver::Dense => true,
             Solver::Sparse => false,
-            Solver::Auto => match wanted {
-                Wanted::Lowest(count) => n < SPARSE_FROM || (4 * count > n && n <= DENSE_LIMIT),
-                Wanted::Below(_) => n < SPARSE_FROM,
+            // A count caps a band's pairs too.
+            Solver::Auto => match wanted.count() {
+                Some(count) => n < SPARSE_FROM || (4 * count > n && n <= DENSE_LIMIT),
+                None => n < SPARSE_FROM,
             },
         }
     }
@@ -66,7 +67,7 @@ impl Solver {
 /// What an eigen solve on a pencil is to find, and how.
 #[derive(Copy, Clone, Debug)]
 pub struct EigenRequest<'a> {
-    /// The pairs wanted: a count, or every one below a bound.
+    /// The pairs wanted: a count, every one below a bound, or both.
     pub wanted: Wanted,
     /// Which solver ([`Solver::Auto`] chooses by size and count).
     pub solver: Solver,
@@ -125,7 +126,7 @@ pub fn eigen(
     progress: &dyn Progress,
 ) -> Result<EigenSolution, LinalgError> {
     let n = k.nrows();
-    if wanted == Wanted::Lowest(0) {
+    if wanted.is_none() {
         return Ok(nothing(n));
     }
     if !solver.is_dense(n, wanted) {
@@ -167,7 +168,7 @@ impl Pencil {
         progress: &dyn Progress,
     ) -> Result<EigenSolution, LinalgError> {
         let n = self.dim();
-        if request.wanted == Wanted::Lowest(0) {
+        if request.wanted.is_none() {
             return Ok(nothing(n));
         }
         if !request.solver.is_dense(n, request.wanted) {
@@ -232,10 +233,7 @@ fn dense_limit(n: usize) -> Result<(), LinalgError> {
 
 /// The pairs of `all` (ascending) that `wanted` asks for, at most all.
 fn wanted_of(all: EigenPairs, wanted: Wanted) -> EigenPairs {
-    let count = match wanted {
-        Wanted::Lowest(count) => count.min(all.values.len()),
-        Wanted::Below(limit) => all.values.iter().filter(|l| **l < limit).count(),
-    };
+    let count = wanted.kept(&all.values);
     if count == all.values.len() {
         all
     } else {
@@ -258,3 +256,6 @@ fn dense_all(k: Mat<f64>, m: Mat<f64>) -> Result<EigenPairs, LinalgError> {
     }
     Ok(pairs)
 }
+
+#[cfg(test)]
+mod tests;

@@ -306,16 +306,13 @@ fn reduce_from(
     };
     let (basis, kinds, products) = match spec.method {
         Method::Free => {
-            if band(0) == Wanted::Lowest(0) {
+            if band(0).is_none() {
                 return Err(ReduceError::NoModes);
             }
             // One eigenmode beyond the rigid-body modes at least: a
             // mechanism's zero would be the next (eq. 12-13 give nr).
             let (nr, n) = (rigid.count(), sub.len());
-            let wanted = match band(0) {
-                Wanted::Lowest(count) => Wanted::Lowest(count.max(nr + 1).min(n)),
-                within => within,
-            };
+            let wanted = band(0).map_count(|count| count.max(nr + 1).min(n));
             let (mut phi, _, products) = eigenmodes_from(matrices, wanted, progress)?;
             if phi.values.is_empty() {
                 return Err(ReduceError::NoModes);
@@ -326,7 +323,7 @@ fn reduce_from(
                 let next = products.lowest_eigenvalues(nr + 1)?;
                 check_zeros(&next, nr, n, |c| products.lowest_eigenvalues(c))?;
             }
-            if let Wanted::Lowest(count) = band(0) {
+            if let Some(count) = band(0).count() {
                 phi = phi.slice(0, count.min(phi.values.len()));
             }
             let kinds = phi
@@ -414,7 +411,9 @@ fn reduce_from(
             })?;
             let e = match band(nr) {
                 Wanted::Lowest(_) => spec.modes,
-                Wanted::Below(_) => all.values.len().saturating_sub(nr),
+                Wanted::Below(_) | Wanted::LowestBelow { .. } => {
+                    all.values.len().saturating_sub(nr)
+                }
             };
             if all.values.len() < nr + e {
                 return Err(ReduceError::NotEnoughModes {

@@ -22,7 +22,8 @@ pub(super) fn spans_the_space(nev: usize, free: usize, params: &LanczosParams) -
 /// The wanted pairs from dense `K` and `M` (formed by the pencil's
 /// products with the identity) and [`crate::eigen::generalized_symmetric`],
 /// for a count [`spans_the_space`], with their residuals. For a band, the
-/// eigenvalues below the bound are the dense solver's.
+/// eigenvalues below the bound are the dense solver's (at most the count of
+/// [`Wanted::LowestBelow`]).
 pub(super) fn dense_pairs(
     pencil: &Pencil,
     wanted: Wanted,
@@ -43,9 +44,10 @@ pub(super) fn dense_pairs(
     let (k, m) = pencil.to_dense();
     let all = crate::eigen::generalized_symmetric(k.as_ref(), m.as_ref())?;
     drop((k, m));
+    // A count alone asks for that many; with a bound, for those below it.
     let keep = match wanted {
         Wanted::Lowest(count) => count,
-        Wanted::Below(bound) => all.values.iter().filter(|&&l| l < bound).count(),
+        band => band.kept(&all.values),
     };
     if keep > all.values.len() {
         return Err(LinalgError::Dimension(format!(

@@ -67,15 +67,14 @@ impl Solver<'_> {
 }
 
 /// The wanted converged vectors in ascending `lambda` (the lowest `count`,
-/// or those below a band's bound), and `M` times them.
+/// those below a band's bound, or the lowest `count` of those), and `M`
+/// times them.
 fn wanted_vectors(pencil: &Pencil, locked: Locked, wanted: Wanted) -> (Mat<f64>, Mat<f64>) {
     let n = locked.x.nrows();
     let mut order: Vec<usize> = (0..locked.lambda.len()).collect();
     order.sort_by(|&a, &b| locked.lambda[a].total_cmp(&locked.lambda[b]));
-    let keep = match wanted {
-        Wanted::Lowest(count) => count.min(order.len()),
-        Wanted::Below(bound) => order.iter().filter(|&&i| locked.lambda[i] < bound).count(),
-    };
+    let ascending: Vec<f64> = order.iter().map(|&i| locked.lambda[i]).collect();
+    let keep = wanted.kept(&ascending);
     order.truncate(keep);
     let vectors = Mat::from_fn(n, order.len(), |i, j| locked.x[(i, order[j])]);
     drop(locked);

@@ -32,6 +32,13 @@
 //! `-(K - s M)^-1 M`, whose positive `theta = 1 / (s - lambda)` are exactly
 //! the eigenvalues below `s`, the largest nearest it.
 //!
+//! A band ([`Wanted::Below`]) is counted at its bound before any run, and
+//! the check sits on the bound. A count below a bound
+//! ([`Wanted::LowestBelow`]) is counted there too: where no more than the
+//! count lie below the bound it is that band; otherwise the count cuts
+//! it, and the run and its check are those of the count alone, so no run
+//! looks for the band's pairs above the lowest `count`.
+//!
 //! That factor also finishes a run that stalls: when four sweeps in a row
 //! past the first restart converge no new wanted pair (with every wanted
 //! Ritz value already close), the run stops. The sweeps that fill the

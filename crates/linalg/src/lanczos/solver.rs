@@ -69,9 +69,11 @@ pub(super) struct Solver<'a> {
     pub(super) sigma: f64,
     pub(super) k_diag: Vec<f64>,
     pub(super) stats: LanczosStats,
-    /// Eigenpairs wanted: the count, or a band's Sturm count.
+    /// Eigenpairs wanted: the count, a band's Sturm count, or the smaller
+    /// of the two.
     pub(super) nev: usize,
-    /// A band's bound and its Sturm count, made before any run.
+    /// A band's bound and its Sturm count, made before any run (for a count
+    /// below a bound, only where the count does not cut the band).
     pub(super) band: Option<(f64, usize)>,
     /// The converged pairs of every run (the rigid-body modes of a held
     /// operator first).
@@ -126,15 +128,7 @@ impl<'a> Solver<'a> {
             None => (None, Vec::new()),
         };
         if let (Some(h), Wanted::Lowest(count)) = (&held, wanted) {
-            // The Sturm check's bound lies just above the highest mode found:
-            // with the rigid-body modes alone it would sit on them.
-            if count <= h.rigid.ncols() {
-                return Err(LinalgError::Dimension(format!(
-                    "{count} modes of a free body with {} rigid-body modes: the held \
-                     operator needs at least one elastic mode",
-                    h.rigid.ncols()
-                )));
-            }
+            elastic_beyond_rigid(count, h)?;
         }
         // The rigid-body modes of a held operator are known: lambda = 0.
         let locked = match &held {
@@ -157,10 +151,7 @@ impl<'a> Solver<'a> {
             sigma,
             k_diag,
             stats,
-            nev: match wanted {
-                Wanted::Lowest(count) => count,
-                Wanted::Below(_) => 0,
-            },
+            nev: wanted.count().unwrap_or(0),
             band: None,
             locked,
             rng: Rng(0x9e37_79b9_7f4a_7c15),
@@ -191,15 +182,30 @@ impl<'a> Solver<'a> {
     }
 
     /// The number of pairs wanted: for a band, the Sturm count at its upper
-    /// bound. A count whose basis would span the space goes to the dense
-    /// solver; otherwise the memory for the run is checked and the operator
-    /// factorised (which also checks that the shift lies below the
-    /// spectrum).
+    /// bound; for a count below a bound, the smaller of the two (the band's
+    /// check proves the pairs below the bound when they are no more than
+    /// the count, else the count's check proves the lowest `count`, and no
+    /// run looks for the band's pairs above them). A count whose basis
+    /// would span the space goes to the dense solver; otherwise the memory
+    /// for the run is checked and the operator factorised (which also
+    /// checks that the shift lies below the spectrum).
     fn count(&mut self) -> Result<State, LinalgError> {
-        if let Wanted::Below(bound) = self.wanted {
-            let count = self.op.sturm_count(bound)?;
-            self.band = Some((bound, count));
-            self.nev = count;
+        match self.wanted {
+            Wanted::Below(bound) => {
+                let count = self.op.sturm_count(bound)?;
+                self.band = Some((bound, count));
+                self.nev = count;
+            }
+            Wanted::LowestBelow { count, bound } => {
+                let below = self.op.sturm_count(bound)?;
+                if below <= count {
+                    self.band = Some((bound, below));
+                    self.nev = below;
+                } else if let Some(h) = &self.held {
+                    elastic_beyond_rigid(count, h)?;
+                }
+            }
+            Wanted::Lowest(_) => {}
         }
         let known = self.held.map_or(0, |h| h.rigid.ncols());
         let n = self.pencil.dim();
@@ -316,4 +322,18 @@ impl<'a> Solver<'a> {
             start.as_ref().map(|x| x.as_ref()),
         )
     }
+}
+
+/// A count of a free body's modes on the held operator must go beyond its
+/// rigid-body modes: the Sturm check's bound lies just above the highest
+/// mode found, and with the rigid-body modes alone it would sit on them.
+fn elastic_beyond_rigid(count: usize, held: &Held<'_>) -> Result<(), LinalgError> {
+    if count <= held.rigid.ncols() {
+        return Err(LinalgError::Dimension(format!(
+            "{count} modes of a free body with {} rigid-body modes: the held \
+             operator needs at least one elastic mode",
+            held.rigid.ncols()
+        )));
+    }
+    Ok(())
 }

@@ -24,9 +24,10 @@ pub use flexbody_linalg::solver::{Solver, DENSE_LIMIT, SPARSE_FROM};
 /// eigenvalues lambda = omega^2 (rad^2/s^2).
 pub use flexbody_linalg::eigen::EigenPairs as EigenModes;
 
-/// Which eigenpairs a reduction takes: the lowest `n`, or every one below
-/// a bound ([`Wanted::below_hz`]: the report's modes in the excitation
-/// band, counted by the Sturm sequence).
+/// Which eigenpairs a reduction takes: the lowest `n`, every one below a
+/// bound ([`Wanted::below_hz`]: the report's modes in the excitation band,
+/// counted by the Sturm sequence), or the lowest `n` below a bound
+/// ([`Wanted::lowest_below_hz`]).
 pub use flexbody_linalg::eigen::Wanted;
 
 /// The `wanted` eigenpairs of `K phi = lambda M phi`, by the solver

@@ -104,7 +104,7 @@ pub(crate) fn elastic_residual_modes_from<'a>(
     let full = matrices.kept_if_small(n, band);
     let sprung = Sprung { pencil, springs };
     let pencil = &sprung.pencil;
-    if band == Wanted::Lowest(0) {
+    if band.is_none() {
         // The constraint modes alone: K_NN is the one factorisation.
         let (psi, _) =
             held_constraint_modes(pencil, boundary, &interior, dof_map, rigid, progress)?;

@@ -72,7 +72,7 @@ pub(crate) fn craig_bampton_modes_from<'a>(
     k_factor.solve_in_place(u_n.as_mut());
     let psi = constraint_columns(n, boundary, interior, &u_n);
     // Guyan's static condensation takes the constraint modes alone.
-    let phi = if band == Wanted::Lowest(0) {
+    let phi = if band.is_none() {
         EigenModes {
             vectors: Mat::zeros(n, 0),
             values: vec![],

@@ -66,10 +66,7 @@ pub(crate) fn inertia_relief_and_free_modes_from<'a>(
     progress: &dyn Progress,
 ) -> Result<(Mat<f64>, EigenModes, Products<'a>), ReduceError> {
     let (n, nr) = (matrices.k().nrows(), rigid.count());
-    let at_least = |band: Wanted| match band {
-        Wanted::Lowest(count) => Wanted::Lowest(count.max(nr + 1).min(n)),
-        within => within,
-    };
+    let at_least = |band: Wanted| band.map_count(|count| count.max(nr + 1).min(n));
     if nr > 0 {
         check_support(rigid, support, dof_map)?;
     }
