@@ -374,7 +374,6 @@ mod tests {
     use crate::mesh::BrickBlock;
     use crate::{BeamProperties, BeamTheory, Dof, DofKind, Material, Node, SectionShape};
     use faer::Mat;
-    use std::collections::BTreeMap;
 
     /// Dense reference: every element block added at its equations.
     fn dense(model: &Model) -> (Mat<f64>, Mat<f64>) {
@@ -414,7 +413,7 @@ mod tests {
         }
         let cells = block.elements(&Material::new(2.1e11, 0.3, 7850.0).unwrap());
         let elements = (0..cells.len()).map(|e| cells[order(e)].clone()).collect();
-        Model::new(nodes, elements, BTreeMap::new(), Vec::new(), None).unwrap()
+        Model::of(nodes, elements).build().unwrap()
     }
 
     #[test]
@@ -527,7 +526,7 @@ mod tests {
             Dof::new(1, DofKind::Uy),
             Dof::new(1, DofKind::Rz),
         ];
-        let model = Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap();
+        let model = Model::of(nodes, elements).fixed(fixed).build().unwrap();
         let s = assemble(&model).unwrap();
         let (k, m) = dense(&model);
         let scale = flexbody_linalg::sparse::max_abs(k.as_ref());

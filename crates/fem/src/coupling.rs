@@ -316,7 +316,10 @@ mod tests {
         } else {
             vec![]
         };
-        Model::new(nodes, bar.elements(&material), BTreeMap::new(), fixed, None).unwrap()
+        Model::of(nodes, bar.elements(&material))
+            .fixed(fixed)
+            .build()
+            .unwrap()
     }
 
     /// The nodes of the face x = 0 of a [`bar`], which the couplings hold.

@@ -18,7 +18,7 @@ pub use assembly::{assemble, SystemMatrices};
 pub use coupling::{Coupling, CouplingKind};
 pub use dof::{Dof, DofKind, DofMap};
 pub use element::{Element, ElementMatrices, SectionForces};
-pub use model::{Model, Node, NodeId, Rayleigh, ValueTerms};
+pub use model::{Model, ModelParts, Node, NodeId, Rayleigh, ValueTerms};
 pub use section::{BeamProperties, BeamTheory, Material, SectionShape};
 pub use substructure::{Substructure, Support};
 

@@ -348,7 +348,9 @@ impl BeamLine {
     /// The line as a model of its forward elements with the DOFs `fixed`
     /// held: no node sets, no damping.
     pub fn model(&self, fixed: Vec<Dof>) -> Result<Model, FemError> {
-        Model::new(self.nodes(), self.elements(), BTreeMap::new(), fixed, None)
+        Model::of(self.nodes(), self.elements())
+            .fixed(fixed)
+            .build()
     }
 }
 

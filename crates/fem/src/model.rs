@@ -64,7 +64,73 @@ pub struct Model {
     dof_map: DofMap,
 }
 
+/// A model's parts by name, for [`Model::of`]: the nodes and elements,
+/// then whatever else the model has.
+///
+/// ```
+/// # use flexbody_fem::{Dof, DofKind, Element, Model, Node};
+/// # use flexbody_fem::element::Spring;
+/// let nodes = vec![Node { id: 1, coords: [0.0; 3] }];
+/// let spring = Spring { id: 1, first: Dof::new(1, DofKind::Ux), second: None, stiffness: 1e3 };
+/// let model = Model::of(nodes, vec![Element::from(spring)])
+///     .fixed(vec![])
+///     .build()?;
+/// assert_eq!(model.dof_map().len(), 1);
+/// # Ok::<(), flexbody_fem::FemError>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct ModelParts {
+    nodes: Vec<Node>,
+    elements: Vec<Element>,
+    node_sets: BTreeMap<String, Vec<NodeId>>,
+    fixed: Vec<Dof>,
+    rayleigh: Option<Rayleigh>,
+}
+
+impl ModelParts {
+    /// The named node sets.
+    pub fn node_sets(self, node_sets: BTreeMap<String, Vec<NodeId>>) -> Self {
+        Self { node_sets, ..self }
+    }
+
+    /// The DOFs held at zero.
+    pub fn fixed(self, fixed: Vec<Dof>) -> Self {
+        Self { fixed, ..self }
+    }
+
+    /// Rayleigh damping `D = alpha M + beta K`.
+    pub fn rayleigh(self, rayleigh: Rayleigh) -> Self {
+        Self {
+            rayleigh: Some(rayleigh),
+            ..self
+        }
+    }
+
+    /// The checked model ([`Model::new`]).
+    pub fn build(self) -> Result<Model, FemError> {
+        Model::new(
+            self.nodes,
+            self.elements,
+            self.node_sets,
+            self.fixed,
+            self.rayleigh,
+        )
+    }
+}
+
 impl Model {
+    /// The parts of a model of `nodes` and `elements`, to add node sets,
+    /// fixed DOFs and damping to by name and [`ModelParts::build`].
+    pub fn of(nodes: Vec<Node>, elements: Vec<Element>) -> ModelParts {
+        ModelParts {
+            nodes,
+            elements,
+            node_sets: BTreeMap::new(),
+            fixed: Vec::new(),
+            rayleigh: None,
+        }
+    }
+
     /// Builds and checks a model.
     pub fn new(
         nodes: Vec<Node>,

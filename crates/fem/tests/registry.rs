@@ -9,12 +9,12 @@ use faer::Mat;
 use flexbody_fem::element::{element_types, ElementType, SectionKind};
 use flexbody_fem::mesh::{sample_section, EveryElementType};
 use flexbody_fem::{assemble, Dof, DofKind, Element, Model};
-use std::collections::{BTreeMap, HashSet};
+use std::collections::HashSet;
 
 fn every_type() -> (EveryElementType, Model) {
     let every = EveryElementType::sample().unwrap();
     let elements = every.elements.iter().map(|(_, e)| e.clone()).collect();
-    let model = Model::new(every.nodes.clone(), elements, BTreeMap::new(), vec![], None).unwrap();
+    let model = Model::of(every.nodes.clone(), elements).build().unwrap();
     (every, model)
 }
 

@@ -61,6 +61,11 @@ pub enum LinalgError {
     /// Dimensions of the operands do not agree.
     #[error("dimension mismatch: {0}")]
     Dimension(String),
+    /// An eigen request the solvers cannot serve on this pencil: more
+    /// pairs than it has, or than the Lanczos basis and the dense solver
+    /// can hold, or a free body's request without an elastic mode.
+    #[error("eigen request not served: {0}")]
+    Unservable(String),
     /// A factor (or other large array) would not fit in the memory left.
     #[error("{what} needs {needed} more memory, but only {room} are left ({bound}): use a machine with more memory or a coarser mesh")]
     OutOfMemory {

@@ -15,7 +15,6 @@ use flexbody_fem::mesh::{SolidBlock, SolidMesh};
 use flexbody_fem::{Dof, DofKind, Material, Model};
 use flexbody_recover::{nodal_stresses, ModalStress};
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
-use std::collections::BTreeMap;
 
 const E: f64 = 2.1e11;
 const NU: f64 = 0.3;
@@ -91,7 +90,10 @@ impl Mesh {
 
     fn model(&self, fixed: Vec<Dof>) -> Model {
         let elements = self.solid.elements(&Material::new(E, NU, RHO).unwrap());
-        Model::new(self.solid.nodes(), elements, BTreeMap::new(), fixed, None).unwrap()
+        Model::of(self.solid.nodes(), elements)
+            .fixed(fixed)
+            .build()
+            .unwrap()
     }
 
     /// Consistent nodal forces along x of the traction `t(y, z)` (Pa) on the

@@ -12,7 +12,6 @@ use flexbody_fem::{
     Substructure, SystemMatrices,
 };
 use flexbody_linalg::sparse::{max_abs, project};
-use std::collections::BTreeMap;
 
 mod bodies;
 mod mechanisms;
@@ -72,7 +71,7 @@ fn l_frame() -> Model {
             })
         })
         .collect();
-    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+    Model::of(nodes, elements).build().unwrap()
 }
 
 fn uz(nodes: &[u64]) -> Vec<Dof> {

@@ -8,7 +8,6 @@ use crate::section::{BeamProperties, BeamTheory, Material, SectionShape};
 use crate::{assemble, SystemMatrices};
 use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
-use std::collections::BTreeMap;
 
 const E: f64 = 2.1e11;
 const RHO: f64 = 7850.0;
@@ -238,7 +237,7 @@ fn point_mass_adds_only_to_existing_dofs() {
         mass: 5.0,
         inertia: [1.0, 2.0, 3.0, 0.0, 0.0, 0.0],
     }));
-    m = Model::new(m.nodes().to_vec(), elements, BTreeMap::new(), vec![], None).unwrap();
+    m = Model::of(m.nodes().to_vec(), elements).build().unwrap();
     let with = assemble(&m).unwrap();
     assert_eq!(m.dof_map().len(), 6);
     let uz = m.dof_map().index_of(Dof::new(2, DofKind::Uz)).unwrap();

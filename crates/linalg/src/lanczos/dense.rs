@@ -32,7 +32,7 @@ pub(super) fn dense_pairs(
 ) -> Result<(EigenPairs, Vec<f64>), LinalgError> {
     let n = pencil.dim();
     crate::eigen::ensure_dense_room(n, 2, pencil.budget()).map_err(|err| {
-        LinalgError::Dimension(format!(
+        LinalgError::Unservable(format!(
             "{nev} eigenpairs of a {n}-equation model are too many for Lanczos (its \
              basis would span the model), and the dense solver does not fit: {err}"
         ))
@@ -50,7 +50,7 @@ pub(super) fn dense_pairs(
         band => band.kept(&all.values),
     };
     if keep > all.values.len() {
-        return Err(LinalgError::Dimension(format!(
+        return Err(LinalgError::Unservable(format!(
             "{keep} eigenpairs wanted of a {n}-equation model with {} finite ones",
             all.values.len()
         )));

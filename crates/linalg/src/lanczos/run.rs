@@ -161,7 +161,7 @@ impl RunShape {
     fn new(nev: usize, free: usize, n: usize, params: &LanczosParams) -> Result<Self, LinalgError> {
         let (b, p_max) = basis_shape(nev, free, params);
         if p_max < nev + b && p_max < free {
-            return Err(LinalgError::Dimension(format!(
+            return Err(LinalgError::Unservable(format!(
                 "{nev} eigenpairs of a {n}-equation model: too many for Lanczos"
             )));
         }

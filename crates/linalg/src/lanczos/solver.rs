@@ -329,7 +329,7 @@ impl<'a> Solver<'a> {
 /// mode found, and with the rigid-body modes alone it would sit on them.
 fn elastic_beyond_rigid(count: usize, held: &Held<'_>) -> Result<(), LinalgError> {
     if count <= held.rigid.ncols() {
-        return Err(LinalgError::Dimension(format!(
+        return Err(LinalgError::Unservable(format!(
             "{count} modes of a free body with {} rigid-body modes: the held \
              operator needs at least one elastic mode",
             held.rigid.ncols()

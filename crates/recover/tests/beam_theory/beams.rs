@@ -8,7 +8,6 @@ use flexbody_fem::{
     BeamProperties, BeamTheory, Dof, DofKind, Element, Material, Model, SectionForces, SectionShape,
 };
 use flexbody_recover::ElementForces;
-use std::collections::BTreeMap;
 
 pub(crate) const E: f64 = 2.1e11;
 pub(crate) const NU: f64 = 0.3;
@@ -139,14 +138,10 @@ pub(crate) fn line(
         kind: kind.line_kind(orientation),
         properties: kind.properties(),
     };
-    Model::new(
-        line.nodes(),
-        line.elements_reversed(reversed),
-        BTreeMap::new(),
-        fixed,
-        None,
-    )
-    .unwrap()
+    Model::of(line.nodes(), line.elements_reversed(reversed))
+        .fixed(fixed)
+        .build()
+        .unwrap()
 }
 
 /// A line of `n` elements of `kind` along global x from the origin to

@@ -190,7 +190,7 @@ fn solid_block() -> (Substructure, ReducedBody) {
     };
     let nodes = grid.nodes();
     let elements = grid.elements(&Material::new(2.1e11, 0.3, 7850.0).unwrap());
-    let model = Model::new(nodes, elements, Default::default(), vec![], None).unwrap();
+    let model = Model::of(nodes, elements).build().unwrap();
     let sub = Substructure::from_model(&model).unwrap();
     let spec = crate::Reduction::new(Method::Free, 12, vec![]);
     let body = crate::reduce(&sub, &spec).unwrap();

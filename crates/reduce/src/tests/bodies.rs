@@ -8,7 +8,6 @@ use crate::{reduce, Method, ReduceError, Reduction};
 use flexbody_fem::{assemble, Dof, DofKind, Model, Substructure};
 use flexbody_linalg::sparse::{max_abs, project};
 use flexbody_linalg::LinalgError;
-use std::collections::BTreeMap;
 
 #[test]
 fn reduced_matrices_are_symmetric_and_orthonormalisation_keeps_the_spectrum() {
@@ -168,14 +167,10 @@ fn matrices_without_geometry_reduce_to_the_same_body() {
         assert!((x - y).abs() < 1e-8 * x, "{x} vs {y}");
     }
     // A supported model read as bare matrices has no rigid-body modes.
-    let fixed = Model::new(
-        model.nodes().to_vec(),
-        model.elements().to_vec(),
-        BTreeMap::new(),
-        vec![Dof::new(1, DofKind::Uz), Dof::new(1, DofKind::Ry)],
-        None,
-    )
-    .unwrap();
+    let fixed = Model::of(model.nodes().to_vec(), model.elements().to_vec())
+        .fixed(vec![Dof::new(1, DofKind::Uz), Dof::new(1, DofKind::Ry)])
+        .build()
+        .unwrap();
     let s = sub(&fixed);
     let bare =
         Substructure::from_matrices(s.dof_map.clone(), s.matrices.clone(), Default::default());
@@ -220,14 +215,9 @@ fn modal_damping_of_residual_modes_at_close_interface_nodes() {
         pairs.values[2]
     );
     assert!(pairs.values[6] > 1e7 * first, "{:?}", pairs.values);
-    let element = Model::new(
-        model.nodes()[..2].to_vec(),
-        model.elements()[..1].to_vec(),
-        BTreeMap::new(),
-        vec![],
-        None,
-    )
-    .unwrap();
+    let element = Model::of(model.nodes()[..2].to_vec(), model.elements()[..1].to_vec())
+        .build()
+        .unwrap();
     let e = sub(&element);
     let bound = flexbody_linalg::eigen::generalized_symmetric(
         e.matrices.stiffness.to_dense().as_ref(),

@@ -5,7 +5,6 @@ use super::{l_frame, planar_beam, props, sub, uz};
 use crate::{reduce, Method, ReduceError, Reduction};
 use flexbody_fem::element::PlanarBeam;
 use flexbody_fem::{Dof, DofKind, Element, Model, Node};
-use std::collections::BTreeMap;
 
 #[test]
 fn an_interface_that_leaves_a_mechanism_names_the_free_dofs() {
@@ -51,7 +50,7 @@ fn two_unconnected_beams() -> Model {
             }));
         }
     }
-    Model::new(nodes, elements, BTreeMap::new(), vec![], None).unwrap()
+    Model::of(nodes, elements).build().unwrap()
 }
 
 #[test]

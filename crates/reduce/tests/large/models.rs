@@ -4,7 +4,6 @@
 use flexbody_fem::element::solid::{Solid, SolidKind};
 use flexbody_fem::mesh::BrickBlock;
 use flexbody_fem::{Dof, DofKind, Element, Material, Model, Node, Substructure};
-use std::collections::BTreeMap;
 
 /// A steel C3D8 bar of `nx * ny * nz` elements over `size` (m). With
 /// `dangling`, one more element hangs on the corner node at
@@ -78,7 +77,7 @@ pub(crate) fn block_held(
             }
         }
     }
-    let model = Model::new(nodes, elements, BTreeMap::new(), fixed, None).unwrap();
+    let model = Model::of(nodes, elements).fixed(fixed).build().unwrap();
     Substructure::from_model(&model).unwrap()
 }
 
@@ -123,6 +122,6 @@ pub(crate) fn bar_of_densities(nx: usize, density: impl Fn(usize) -> f64) -> Sub
         size: [0.1 * nx as f64, 0.05, 0.05],
     };
     let elements = bar.elements_of(|e| Material::new(2.1e11, 0.3, density(e)).unwrap());
-    let model = Model::new(bar.nodes(), elements, BTreeMap::new(), vec![], None).unwrap();
+    let model = Model::of(bar.nodes(), elements).build().unwrap();
     Substructure::from_model(&model).unwrap()
 }

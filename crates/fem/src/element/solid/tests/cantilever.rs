@@ -15,7 +15,7 @@ use faer::Mat;
 use flexbody_linalg::eigen::generalized_symmetric;
 use flexbody_linalg::ldlt::Factor;
 use flexbody_linalg::SparseMat;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 const LENGTH: f64 = 2.0;
 const SIDE: f64 = 0.1;
@@ -50,7 +50,10 @@ fn bar(n: [usize; 3]) -> (Model, HashMap<[usize; 3], NodeId>) {
         .flat_map(|(_, &id)| [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|d| Dof::new(id, d)))
         .collect();
     let elements = mesh.elements(&steel());
-    let model = Model::new(mesh.nodes(), elements, BTreeMap::new(), fixed, None).unwrap();
+    let model = Model::of(mesh.nodes(), elements)
+        .fixed(fixed)
+        .build()
+        .unwrap();
     (model, ids)
 }
 
