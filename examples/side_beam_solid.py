@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes examples/side_beam_solid.inp: the report's side beam (DESIGN.md) as
+"""Writes examples/side_beam_solid.inp: the report's side beam (side_beam.toml) as
 a C3D8 mesh of its box section, b = 0.24 m (y) x h = 0.20 m (z), wall
 t = 0.012 m, length 2.5 m, steel E = 2.1e11 Pa, rho = 6800 kg/m^3.
 

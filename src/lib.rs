@@ -27,6 +27,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod file_kind;
 pub mod input;
 pub mod output;
 pub mod output_folder;

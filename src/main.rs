@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use flexbody::file_kind::Takes;
 use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::Progress;
 use flexbody::output_folder::OutputFolder;
@@ -285,13 +286,18 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             factor,
         } => run_info(&model, &matrices, factor, budget),
         Command::Inspect { body } => {
+            Takes::INSPECT.check(&body)?;
             say!("{}", export::read_any(&body)?.summary());
             Ok(())
         }
         Command::Simulate { model, out, full } => {
+            Takes::SIMULATE.check(&model)?;
             run_simulate(&model, &out, full, budget, progress)
         }
-        Command::Frf { model, out, full } => run_frf(&model, &out, full, budget, progress),
+        Command::Frf { model, out, full } => {
+            Takes::FRF.check(&model)?;
+            run_frf(&model, &out, full, budget, progress)
+        }
     }
 }
 
@@ -311,6 +317,7 @@ fn run_study(
             Path::new("out").join(stem)
         })
     });
+    Takes::STUDY.check(model)?;
     let file = scenario::read_model_file(model)?;
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
@@ -335,7 +342,9 @@ fn run_study(
     Ok(())
 }
 
-fn load(model: &Path, matrices: &MatrixArgs) -> Result<input::Component> {
+/// The component at `model`, for the command that `takes` it.
+fn load(model: &Path, matrices: &MatrixArgs, takes: Takes) -> Result<input::Component> {
+    takes.check(model)?;
     let c = input::load(model, &matrices.files())?;
     for w in &c.warnings {
         eprintln!("warning: {}: ignored {w}", model.display());
@@ -364,7 +373,7 @@ fn run_reduce(
     if let Some(path) = vtu {
         export::check_writable(path)?;
     }
-    let mut c = load(model, matrices)?;
+    let mut c = load(model, matrices, Takes::REDUCE)?;
     if vtu.is_some() && c.model.is_none() {
         anyhow::bail!(
             "{}: --vtu needs a mesh; matrices alone have none",
@@ -468,7 +477,8 @@ fn run_modes(
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let modes = report::natural_frequencies(load(model, matrices)?, band, budget, progress)?;
+    let modes =
+        report::natural_frequencies(load(model, matrices, Takes::MODES)?, band, budget, progress)?;
     if let Some(mechanism) = &modes.mechanism {
         eprintln!("warning: {}: {mechanism}", model.display());
     }
@@ -488,7 +498,7 @@ fn run_modes(
 
 fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool, budget: Budget) -> Result<()> {
     let start = std::time::Instant::now();
-    let c = load(model, matrices)?;
+    let c = load(model, matrices, Takes::INFO)?;
     let seconds = start.elapsed().as_secs_f64();
     let map = &c.sub.dof_map;
     say!("{}", c.path.display());

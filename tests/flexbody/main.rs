@@ -11,6 +11,7 @@ mod errors;
 mod exchange;
 mod export;
 mod exudyn;
+mod file_kinds;
 mod interfaces;
 mod memory;
 mod section_forces;
