@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use flexbody::io::deck::{DeckOptions, UnknownKeywords};
 use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::Progress;
 use flexbody::output_folder::OutputFolder;
@@ -54,6 +55,11 @@ struct Cli {
     /// cgroup's limit are always checked this way.
     #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
     max_memory: Option<u64>,
+    /// Skip deck keywords flexbody does not know (misspelt or unsupported),
+    /// with one warning listing them and their lines, instead of refusing
+    /// the deck. A skipped keyword may have changed K, M or D.
+    #[arg(long, global = true)]
+    allow_unknown: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -237,13 +243,16 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     let budget = Budget::at_most(cli.max_memory);
+    let deck = DeckOptions {
+        allow_unknown: cli.allow_unknown,
+    };
     match cli.command {
         Command::Study {
             model,
             json,
             out,
             no_plots,
-        } => run_study(&model, json, out, no_plots, budget, progress),
+        } => run_study(&model, json, out, no_plots, deck, budget, progress),
         Command::Reduce {
             model,
             interface,
@@ -261,6 +270,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             &model,
             interface.as_deref(),
             &matrices,
+            deck,
             method,
             (modes, fmax),
             (&out, format, vtu.as_deref()),
@@ -277,21 +287,21 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             json,
         } => {
             let band = modes_wanted(count, fmax)?;
-            run_modes(&model, &matrices, band, json, budget, progress)
+            run_modes(&model, &matrices, deck, band, json, budget, progress)
         }
         Command::Info {
             model,
             matrices,
             factor,
-        } => run_info(&model, &matrices, factor, budget),
+        } => run_info(&model, &matrices, deck, factor, budget),
         Command::Inspect { body } => {
             say!("{}", export::read_any(&body)?.summary());
             Ok(())
         }
         Command::Simulate { model, out, full } => {
-            run_simulate(&model, &out, full, budget, progress)
+            run_simulate(&model, &out, full, deck, budget, progress)
         }
-        Command::Frf { model, out, full } => run_frf(&model, &out, full, budget, progress),
+        Command::Frf { model, out, full } => run_frf(&model, &out, full, deck, budget, progress),
     }
 }
 
@@ -300,6 +310,7 @@ fn run_study(
     json: bool,
     out: Option<PathBuf>,
     no_plots: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
@@ -311,7 +322,8 @@ fn run_study(
             Path::new("out").join(stem)
         })
     });
-    let file = scenario::read_model_file(model)?;
+    let file = scenario::read_model_file_with(model, &deck)?;
+    warn_unknown(&file.unknown_keywords);
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
@@ -335,12 +347,20 @@ fn run_study(
     Ok(())
 }
 
-fn load(model: &Path, matrices: &MatrixArgs) -> Result<input::Component> {
-    let c = input::load(model, &matrices.files())?;
+fn load(model: &Path, matrices: &MatrixArgs, deck: DeckOptions) -> Result<input::Component> {
+    let c = input::load_with(model, &matrices.files(), &deck)?;
     for w in &c.warnings {
         eprintln!("warning: {}: ignored {w}", model.display());
     }
+    warn_unknown(&c.unknown_keywords);
     Ok(c)
+}
+
+/// The one warning listing the deck keywords skipped by `--allow-unknown`.
+fn warn_unknown(unknown: &UnknownKeywords) {
+    if let Some(summary) = unknown.summary() {
+        eprintln!("warning: {summary}");
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -348,6 +368,7 @@ fn run_reduce(
     model: &Path,
     interface: Option<&str>,
     matrices: &MatrixArgs,
+    deck: DeckOptions,
     method: Method,
     (modes, fmax): (usize, Option<f64>),
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
@@ -364,7 +385,7 @@ fn run_reduce(
     if let Some(path) = vtu {
         export::check_writable(path)?;
     }
-    let mut c = load(model, matrices)?;
+    let mut c = load(model, matrices, deck)?;
     if vtu.is_some() && c.model.is_none() {
         anyhow::bail!(
             "{}: --vtu needs a mesh; matrices alone have none",
@@ -463,12 +484,13 @@ fn modes_wanted(count: Option<usize>, fmax: Option<f64>) -> Result<red::modes::W
 fn run_modes(
     model: &Path,
     matrices: &MatrixArgs,
+    deck: DeckOptions,
     band: red::modes::Wanted,
     json: bool,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let modes = report::natural_frequencies(load(model, matrices)?, band, budget, progress)?;
+    let modes = report::natural_frequencies(load(model, matrices, deck)?, band, budget, progress)?;
     if let Some(mechanism) = &modes.mechanism {
         eprintln!("warning: {}: {mechanism}", model.display());
     }
@@ -486,9 +508,15 @@ fn run_modes(
     Ok(())
 }
 
-fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool, budget: Budget) -> Result<()> {
+fn run_info(
+    model: &Path,
+    matrices: &MatrixArgs,
+    deck: DeckOptions,
+    factor: bool,
+    budget: Budget,
+) -> Result<()> {
     let start = std::time::Instant::now();
-    let c = load(model, matrices)?;
+    let c = load(model, matrices, deck)?;
     let seconds = start.elapsed().as_secs_f64();
     let map = &c.sub.dof_map;
     say!("{}", c.path.display());
@@ -540,10 +568,12 @@ fn vehicle(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<(Vehicle, OutputFolder)> {
-    let v = Vehicle::read(model)?;
+    let v = Vehicle::read_with(model, &deck)?;
+    warn_unknown(&v.file.unknown_keywords);
     let folder = OutputFolder::make(out)?;
     Ok((
         if full {
@@ -559,10 +589,11 @@ fn run_simulate(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, budget, progress)?;
+    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
@@ -586,10 +617,11 @@ fn run_frf(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, budget, progress)?;
+    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
