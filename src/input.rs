@@ -6,9 +6,10 @@
 //! recovery of element quantities, which matrices alone cannot give.
 
 use crate::fem::{Dof, Model, Substructure, SystemMatrices};
+use crate::io::deck::{DeckOptions, UnknownKeywords};
 use crate::io::InputError;
 use crate::reduce::{Method, Reduction};
-use crate::scenario::{read_model_file, ModelFile};
+use crate::scenario::{read_model_file_with, ModelFile};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -23,6 +24,10 @@ pub struct Component {
     pub file: Option<ModelFile>,
     /// Ignored keywords of a deck, for the user to see.
     pub warnings: Vec<String>,
+    /// Unknown keywords of a deck (also one a model file names) that were
+    /// skipped under [`DeckOptions::allow_unknown`]; show their
+    /// [`UnknownKeywords::summary`].
+    pub unknown_keywords: UnknownKeywords,
     /// Seconds spent reading the files and assembling K and M.
     pub timing: (f64, f64),
 }
@@ -56,8 +61,19 @@ pub enum LoadError {
     InterfaceNodeWithoutDofs(u64),
 }
 
-/// Reads the component at `path`.
+/// Reads the component at `path`; a deck with an unknown keyword is
+/// refused.
 pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError> {
+    load_with(path, matrices, &DeckOptions::default())
+}
+
+/// Reads the component at `path`, a deck (or a model file's deck) with
+/// `options`.
+pub fn load_with(
+    path: &Path,
+    matrices: &MatrixFiles,
+    options: &DeckOptions,
+) -> Result<Component, LoadError> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -77,24 +93,26 @@ pub fn load(path: &Path, matrices: &MatrixFiles) -> Result<Component, LoadError>
     };
     match ext.as_str() {
         "toml" => {
-            let file = read_model_file(path)?;
+            let file = read_model_file_with(path, options)?;
             Ok(Component {
                 path: path.to_path_buf(),
                 sub: assemble(&file.model)?,
                 model: Some(file.model.clone()),
+                unknown_keywords: file.unknown_keywords.clone(),
                 file: Some(file),
                 warnings: vec![],
                 timing: timing(),
             })
         }
         "inp" => {
-            let deck = crate::io::deck::read_deck(path)?;
+            let deck = crate::io::deck::read_deck(path, options)?;
             Ok(Component {
                 path: path.to_path_buf(),
                 sub: assemble(&deck.model)?,
                 model: Some(deck.model),
                 file: None,
                 warnings: deck.warnings,
+                unknown_keywords: deck.unknown,
                 timing: timing(),
             })
         }
@@ -125,6 +143,7 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
         model: None,
         file: None,
         warnings: vec![],
+        unknown_keywords: UnknownKeywords::default(),
         timing: (seconds, 0.0),
     }
 }

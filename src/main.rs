@@ -6,6 +6,7 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use flexbody::file_kind::Takes;
+use flexbody::io::deck::{DeckOptions, UnknownKeywords};
 use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::Progress;
 use flexbody::output_folder::OutputFolder;
@@ -55,6 +56,11 @@ struct Cli {
     /// cgroup's limit are always checked this way.
     #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
     max_memory: Option<u64>,
+    /// Skip deck keywords flexbody does not know (misspelt or unsupported),
+    /// with one warning listing them and their lines, instead of refusing
+    /// the deck. A skipped keyword may have changed K, M or D.
+    #[arg(long, global = true)]
+    allow_unknown: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -238,13 +244,16 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     let budget = Budget::at_most(cli.max_memory);
+    let deck = DeckOptions {
+        allow_unknown: cli.allow_unknown,
+    };
     match cli.command {
         Command::Study {
             model,
             json,
             out,
             no_plots,
-        } => run_study(&model, json, out, no_plots, budget, progress),
+        } => run_study(&model, json, out, no_plots, deck, budget, progress),
         Command::Reduce {
             model,
             interface,
@@ -262,6 +271,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             &model,
             interface.as_deref(),
             &matrices,
+            deck,
             method,
             (modes, fmax),
             (&out, format, vtu.as_deref()),
@@ -278,13 +288,13 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             json,
         } => {
             let band = modes_wanted(count, fmax)?;
-            run_modes(&model, &matrices, band, json, budget, progress)
+            run_modes(&model, &matrices, deck, band, json, budget, progress)
         }
         Command::Info {
             model,
             matrices,
             factor,
-        } => run_info(&model, &matrices, factor, budget),
+        } => run_info(&model, &matrices, deck, factor, budget),
         Command::Inspect { body } => {
             Takes::INSPECT.check(&body)?;
             say!("{}", export::read_any(&body)?.summary());
@@ -292,11 +302,11 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
         }
         Command::Simulate { model, out, full } => {
             Takes::SIMULATE.check(&model)?;
-            run_simulate(&model, &out, full, budget, progress)
+            run_simulate(&model, &out, full, deck, budget, progress)
         }
         Command::Frf { model, out, full } => {
             Takes::FRF.check(&model)?;
-            run_frf(&model, &out, full, budget, progress)
+            run_frf(&model, &out, full, deck, budget, progress)
         }
     }
 }
@@ -306,6 +316,7 @@ fn run_study(
     json: bool,
     out: Option<PathBuf>,
     no_plots: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
@@ -318,7 +329,8 @@ fn run_study(
         })
     });
     Takes::STUDY.check(model)?;
-    let file = scenario::read_model_file(model)?;
+    let file = scenario::read_model_file_with(model, &deck)?;
+    warn_unknown(&file.unknown_keywords);
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
@@ -343,13 +355,26 @@ fn run_study(
 }
 
 /// The component at `model`, for the command that `takes` it.
-fn load(model: &Path, matrices: &MatrixArgs, takes: Takes) -> Result<input::Component> {
+fn load(
+    model: &Path,
+    matrices: &MatrixArgs,
+    takes: Takes,
+    deck: DeckOptions,
+) -> Result<input::Component> {
     takes.check(model)?;
-    let c = input::load(model, &matrices.files())?;
+    let c = input::load_with(model, &matrices.files(), &deck)?;
     for w in &c.warnings {
         eprintln!("warning: {}: ignored {w}", model.display());
     }
+    warn_unknown(&c.unknown_keywords);
     Ok(c)
+}
+
+/// The one warning listing the deck keywords skipped by `--allow-unknown`.
+fn warn_unknown(unknown: &UnknownKeywords) {
+    if let Some(summary) = unknown.summary() {
+        eprintln!("warning: {summary}");
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -357,6 +382,7 @@ fn run_reduce(
     model: &Path,
     interface: Option<&str>,
     matrices: &MatrixArgs,
+    deck: DeckOptions,
     method: Method,
     (modes, fmax): (usize, Option<f64>),
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
@@ -373,7 +399,7 @@ fn run_reduce(
     if let Some(path) = vtu {
         export::check_writable(path)?;
     }
-    let mut c = load(model, matrices, Takes::REDUCE)?;
+    let mut c = load(model, matrices, Takes::REDUCE, deck)?;
     if vtu.is_some() && c.model.is_none() {
         anyhow::bail!(
             "{}: --vtu needs a mesh; matrices alone have none",
@@ -472,13 +498,18 @@ fn modes_wanted(count: Option<usize>, fmax: Option<f64>) -> Result<red::modes::W
 fn run_modes(
     model: &Path,
     matrices: &MatrixArgs,
+    deck: DeckOptions,
     band: red::modes::Wanted,
     json: bool,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let modes =
-        report::natural_frequencies(load(model, matrices, Takes::MODES)?, band, budget, progress)?;
+    let modes = report::natural_frequencies(
+        load(model, matrices, Takes::MODES, deck)?,
+        band,
+        budget,
+        progress,
+    )?;
     if let Some(mechanism) = &modes.mechanism {
         eprintln!("warning: {}: {mechanism}", model.display());
     }
@@ -496,9 +527,15 @@ fn run_modes(
     Ok(())
 }
 
-fn run_info(model: &Path, matrices: &MatrixArgs, factor: bool, budget: Budget) -> Result<()> {
+fn run_info(
+    model: &Path,
+    matrices: &MatrixArgs,
+    deck: DeckOptions,
+    factor: bool,
+    budget: Budget,
+) -> Result<()> {
     let start = std::time::Instant::now();
-    let c = load(model, matrices, Takes::INFO)?;
+    let c = load(model, matrices, Takes::INFO, deck)?;
     let seconds = start.elapsed().as_secs_f64();
     let map = &c.sub.dof_map;
     say!("{}", c.path.display());
@@ -550,10 +587,12 @@ fn vehicle(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<(Vehicle, OutputFolder)> {
-    let v = Vehicle::read(model)?;
+    let v = Vehicle::read_with(model, &deck)?;
+    warn_unknown(&v.file.unknown_keywords);
     let folder = OutputFolder::make(out)?;
     Ok((
         if full {
@@ -569,10 +608,11 @@ fn run_simulate(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, budget, progress)?;
+    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
@@ -596,10 +636,11 @@ fn run_frf(
     model: &Path,
     out: &Path,
     full: bool,
+    deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, budget, progress)?;
+    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;

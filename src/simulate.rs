@@ -90,9 +90,18 @@ pub struct Vehicle {
 impl Vehicle {
     /// Reads the model file at `path` (it must have a `[simulation]`
     /// table) and assembles its model; the full FE model runs until
-    /// [`Vehicle::reduced`].
+    /// [`Vehicle::reduced`]. A `mesh` deck with an unknown keyword is
+    /// refused.
     pub fn read(path: &Path) -> Result<Self, SimulationError> {
-        let file = crate::scenario::read_model_file(path)?;
+        Self::read_with(path, &crate::io::deck::DeckOptions::default())
+    }
+
+    /// [`Vehicle::read`] with the `mesh` deck read with `options`.
+    pub fn read_with(
+        path: &Path,
+        options: &crate::io::deck::DeckOptions,
+    ) -> Result<Self, SimulationError> {
+        let file = crate::scenario::read_model_file_with(path, options)?;
         if file.simulation.is_none() {
             return Err(SimulationError::NoSimulation(path.display().to_string()));
         }

@@ -17,6 +17,7 @@ mod simulation;
 pub use simulation::read_profile;
 
 use flexbody_fem::{Dof, Model};
+use flexbody_io::deck::{DeckOptions, UnknownKeywords};
 use flexbody_io::model_toml::{parse_model_toml, ModelToml};
 use flexbody_io::{InputError, TomlSource};
 use flexbody_mbs::time::{Excitation, TimeSettings};
@@ -66,6 +67,9 @@ pub struct ModelFile {
     pub study: Option<StudySpec>,
     pub simulation: Option<SimulationSpec>,
     pub frf: Option<FrfSpec>,
+    /// Unknown keywords the `mesh` deck skipped (only when read with
+    /// [`DeckOptions::allow_unknown`]); show [`UnknownKeywords::summary`].
+    pub unknown_keywords: UnknownKeywords,
 }
 
 /// Where the flexible body of a simulation comes from.
@@ -136,22 +140,42 @@ impl ModelFile {
     }
 }
 
-/// Reads and checks a model file.
+/// Reads and checks a model file; a `mesh` deck with an unknown keyword
+/// is refused.
 pub fn read_model_file(path: &Path) -> Result<ModelFile, InputError> {
+    read_model_file_with(path, &DeckOptions::default())
+}
+
+/// Reads and checks a model file, its `mesh` deck read with `options`.
+pub fn read_model_file_with(path: &Path, options: &DeckOptions) -> Result<ModelFile, InputError> {
     let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
         cause: source,
     })?;
-    parse_model_file(path, &text)
+    parse_model_file_with(path, &text, options)
+}
+
+/// [`parse_model_file_with`] refusing unknown deck keywords.
+pub fn parse_model_file(path: &Path, text: &str) -> Result<ModelFile, InputError> {
+    parse_model_file_with(path, text, &DeckOptions::default())
 }
 
 /// Parses and checks the text of a model file (`path` names it in errors):
 /// first every top-level key and the scenario tables' syntax, then the
-/// model, then the tables that refer to it.
-pub fn parse_model_file(path: &Path, text: &str) -> Result<ModelFile, InputError> {
+/// model (a `mesh` deck read with `options`), then the tables that refer
+/// to it.
+pub fn parse_model_file_with(
+    path: &Path,
+    text: &str,
+    options: &DeckOptions,
+) -> Result<ModelFile, InputError> {
     let src = TomlSource::new(path, text);
     let raw: raw::RawFile = src.parse()?;
-    let ModelToml { title, model } = parse_model_toml(src)?;
+    let ModelToml {
+        title,
+        model,
+        unknown,
+    } = parse_model_toml(src, options)?;
     let rigid = mbs::rigid_bodies(src, &raw)?;
     mbs::check_track(src, &raw)?;
     let connections = mbs::connections(src, &raw, &model, &rigid)?;
@@ -175,5 +199,6 @@ pub fn parse_model_file(path: &Path, text: &str) -> Result<ModelFile, InputError
         study,
         simulation,
         frf,
+        unknown_keywords: unknown,
     })
 }

@@ -200,7 +200,7 @@ fn cross_check(name: &str) {
     let kind = fixture.element.name();
     let what = format!("{name} ({kind})");
     let deck_path = fixture_dir(name).join(format!("{name}.inp"));
-    let deck = read_deck(&deck_path).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let deck = read_deck(&deck_path, &Default::default()).unwrap_or_else(|e| panic!("{what}: {e}"));
     let model = &deck.model;
     assert!(
         model

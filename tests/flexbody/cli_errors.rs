@@ -224,3 +224,81 @@ fn reduce_refuses_an_output_it_cannot_write_before_it_reduces() {
     );
     assert!(!new.exists());
 }
+
+/// A cantilever of two B31 beams whose `*BOUNDARY` is misspelt `*BOUNDRY`
+/// (line 15): read as written it would run free-free.
+const MISSPELT_BOUNDARY: &str = "\
+*HEADING
+cantilever with a misspelt *BOUNDARY
+*NODE
+1, 0, 0, 0
+2, 0.5, 0, 0
+3, 1.0, 0, 0
+*ELEMENT, TYPE=B31, ELSET=BEAM
+1, 1, 2
+2, 2, 3
+*MATERIAL, NAME=STEEL
+*ELASTIC
+2.1E11, 0.3
+*DENSITY
+7850
+*BOUNDRY
+1, 1, 6
+*BEAM SECTION, ELSET=BEAM, MATERIAL=STEEL, SECTION=RECT
+0.04, 0.06
+0., 1., 0.
+*STEP
+*FREQUENCY
+3
+*END STEP
+";
+
+#[test]
+fn a_misspelt_deck_keyword_is_refused_unless_allowed() {
+    // Before, *BOUNDRY was skipped with a warning lost among the ignored
+    // *HEADING and *STEP, and the cantilever ran free-free with exit 0.
+    assert_eq!(
+        MISSPELT_BOUNDARY.lines().nth(14),
+        Some("*BOUNDRY"),
+        "line 15"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("beam.inp");
+    std::fs::write(&deck, MISSPELT_BOUNDARY).unwrap();
+    // A model file naming the deck obeys the same flag.
+    let model = dir.path().join("beam.toml");
+    std::fs::write(&model, "mesh = \"beam.inp\"\n").unwrap();
+    for input in [&deck, &model] {
+        let input = input.to_str().unwrap();
+        fails_with(
+            &["modes", input, "--count", "3"],
+            &["beam.inp:15:", "*BOUNDRY", "did you mean *BOUNDARY?"],
+        );
+        let o = run_ok(&["modes", input, "--count", "3", "--allow-unknown"]);
+        let err = stderr(&o);
+        let unknown: Vec<&str> = err
+            .lines()
+            .filter(|l| l.contains("unknown keyword"))
+            .collect();
+        assert_eq!(
+            unknown,
+            [format!(
+                "warning: {}: unknown keywords skipped (--allow-unknown; they may have \
+                 changed K, M or D): *BOUNDRY (line 15)",
+                deck.display()
+            )],
+            "{err}"
+        );
+        // Skipped, the beam is free: six rigid-body modes near 0 Hz.
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(out.contains("18 DOFs"), "{out}");
+    }
+    // The flag is global: accepted before the subcommand too.
+    run_ok(&[
+        "--allow-unknown",
+        "modes",
+        deck.to_str().unwrap(),
+        "--count",
+        "3",
+    ]);
+}

@@ -14,7 +14,7 @@ pub mod matrices;
 pub mod model_toml;
 mod toml_source;
 
-pub use deck::{parse_deck, read_deck, Deck};
+pub use deck::{parse_deck, read_deck, Deck, DeckOptions};
 pub use model_toml::{parse_model_toml, ModelToml};
 pub use toml_source::TomlSource;
 

@@ -1,11 +1,13 @@
-//! Reading the cards in order: which keywords are supported, which are
-//! skipped with a warning and which are refused; nodes, elements, sets and
-//! boundary conditions. Materials and sections are in `properties.rs`.
+//! Reading the cards in order: each keyword read, skipped with a warning,
+//! refused (the lists are in `known.rs`) or, unknown, refused or collected
+//! (`unknown.rs`); nodes, elements, sets and boundary conditions. Materials and sections are in `properties.rs`.
 //! Nothing is checked across cards here beyond what must exist already
 //! (sets named in set data and in `*BOUNDARY`); the model is built and
 //! checked in `build.rs`.
 
 use super::cards::{is_numeric, name, Card, DataLine, Files, Loc};
+use super::known::{nearest_known, IGNORED, REFUSED};
+use super::unknown::{DeckOptions, UnknownKeywords};
 use crate::InputError;
 use flexbody_fem::element::{element_types, ElementType, SectionKind};
 use flexbody_fem::{Dof, DofKind, Node, NodeId};
@@ -13,123 +15,6 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Most ids one `GENERATE` line may produce.
 const MAX_GENERATED: u64 = 50_000_000;
-
-/// Keywords skipped with a warning: they do not change the stiffness or
-/// the mass of the linear model (steps, loads, output, thermal and
-/// nonlinear material data, definitions only used by refused keywords).
-const IGNORED: &[&str] = &[
-    "HEADING",
-    "PREPRINT",
-    "STEP",
-    "ENDSTEP",
-    "STATIC",
-    "FREQUENCY",
-    "BUCKLE",
-    "DYNAMIC",
-    "MODALDYNAMIC",
-    "STEADYSTATEDYNAMICS",
-    "COMPLEXFREQUENCY",
-    "HEATTRANSFER",
-    "COUPLEDTEMPERATURE-DISPLACEMENT",
-    "UNCOUPLEDTEMPERATURE-DISPLACEMENT",
-    "VISCO",
-    "GREEN",
-    "SENSITIVITY",
-    "NODEFILE",
-    "ELFILE",
-    "NODEPRINT",
-    "ELPRINT",
-    "CONTACTFILE",
-    "CONTACTPRINT",
-    "SECTIONPRINT",
-    "NODEOUTPUT",
-    "ELEMENTOUTPUT",
-    "CONTACTOUTPUT",
-    "OUTPUT",
-    "CLOAD",
-    "DLOAD",
-    "DSLOAD",
-    "CFLUX",
-    "DFLUX",
-    "FILM",
-    "RADIATE",
-    "TEMPERATURE",
-    "INITIALCONDITIONS",
-    "RESTART",
-    "AMPLITUDE",
-    "TIMEPOINTS",
-    "PHYSICALCONSTANTS",
-    "VALUESATINFINITY",
-    "ORIENTATION",
-    "SURFACE",
-    "SURFACEINTERACTION",
-    "SURFACEBEHAVIOR",
-    "FRICTION",
-    "GAPCONDUCTANCE",
-    "CONTROLS",
-    "FILEFORMAT",
-    "EXPANSION",
-    "CONDUCTIVITY",
-    "SPECIFICHEAT",
-    "PLASTIC",
-    "CYCLICHARDENING",
-    "CREEP",
-    "DAMPING",
-    "MODALDAMPING",
-    "DEPVAR",
-    "SELECTCYCLICSYMMETRYMODES",
-    "PART",
-    "ENDPART",
-    "ASSEMBLY",
-    "ENDASSEMBLY",
-    "ENDINSTANCE",
-];
-
-/// Keywords refused because ignoring them would change the model, with
-/// what they would change.
-const REFUSED: &[(&str, &str)] = &[
-    ("EQUATION", "stiffness matrix (constraints between DOFs)"),
-    ("MPC", "stiffness matrix (constraints between DOFs)"),
-    ("RIGIDBODY", "stiffness matrix (constraints between DOFs)"),
-    (
-        "KINEMATICCOUPLING",
-        "stiffness matrix (constraints between DOFs)",
-    ),
-    (
-        "DISTRIBUTINGCOUPLING",
-        "stiffness matrix (constraints between DOFs)",
-    ),
-    ("TIE", "stiffness matrix (constraints between DOFs)"),
-    ("CONTACTPAIR", "stiffness matrix"),
-    ("CONTACT", "stiffness matrix"),
-    ("GAP", "stiffness matrix"),
-    ("SHELLSECTION", "stiffness and mass matrices"),
-    ("MEMBRANESECTION", "stiffness and mass matrices"),
-    ("BEAMGENERALSECTION", "stiffness and mass matrices"),
-    ("FLUIDSECTION", "stiffness and mass matrices"),
-    ("CONNECTORSECTION", "stiffness and mass matrices"),
-    ("NODALTHICKNESS", "stiffness and mass matrices"),
-    ("NORMAL", "stiffness matrix (beam and shell directions)"),
-    ("TRANSFORM", "stiffness matrix (DOF directions at nodes)"),
-    ("SYSTEM", "node coordinates"),
-    ("ROTARYINERTIA", "mass matrix"),
-    ("NONSTRUCTURALMASS", "mass matrix"),
-    ("DASHPOT", "damping matrix"),
-    ("USERELEMENT", "stiffness and mass matrices"),
-    ("USERMATERIAL", "stiffness matrix (material)"),
-    ("HYPERELASTIC", "stiffness matrix (material)"),
-    ("HYPERFOAM", "stiffness matrix (material)"),
-    ("DEFORMATIONPLASTICITY", "stiffness matrix (material)"),
-    ("PRE-TENSIONSECTION", "stiffness matrix"),
-    ("MODELCHANGE", "stiffness and mass matrices"),
-    ("CYCLICSYMMETRYMODEL", "stiffness and mass matrices"),
-    ("SUBMODEL", "boundary conditions"),
-    ("NGEN", "model (it creates nodes)"),
-    ("NFILL", "model (it creates nodes)"),
-    ("NCOPY", "model (it creates nodes)"),
-    ("ELGEN", "model (it creates elements)"),
-    ("ELCOPY", "model (it creates elements)"),
-];
 
 /// Keywords that belong to the current `*MATERIAL` block.
 const MATERIAL_OPTIONS: &[&str] = &[
@@ -218,6 +103,9 @@ pub(super) struct Reader<'a> {
     /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
     pub surfaces: BTreeMap<String, Vec<NodeId>>,
     pub couplings: Vec<DeckCoupling>,
+    /// Unknown keywords skipped under `allow_unknown`.
+    pub unknown: UnknownKeywords,
+    options: DeckOptions,
     warned: HashSet<String>,
     pub(super) current_material: Option<usize>,
     in_step: bool,
@@ -225,7 +113,7 @@ pub(super) struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(files: &'a Files) -> Self {
+    pub fn new(files: &'a Files, options: DeckOptions) -> Self {
         Self {
             files,
             nodes: Vec::new(),
@@ -242,6 +130,11 @@ impl<'a> Reader<'a> {
             warnings: Vec::new(),
             surfaces: BTreeMap::new(),
             couplings: Vec::new(),
+            unknown: UnknownKeywords {
+                deck: files.paths[0].clone(),
+                keywords: Vec::new(),
+            },
+            options,
             warned: HashSet::new(),
             current_material: None,
             in_step: false,
@@ -288,16 +181,35 @@ impl<'a> Reader<'a> {
                         "ENDSTEP" => self.in_step = false,
                         _ => {}
                     }
-                    let note = if IGNORED.contains(&k) {
-                        ""
+                    if IGNORED.contains(&k) {
+                        self.warn_once(card, "");
                     } else {
-                        ": unknown keyword, skipped"
-                    };
-                    self.warn_once(card, note);
+                        self.unknown_keyword(card)?;
+                    }
                 }
             }
         }
         Ok(())
+    }
+
+    /// An unknown keyword: refused, naming the nearest known keyword when
+    /// one is close, or recorded when unknown keywords are allowed.
+    fn unknown_keyword(&mut self, card: &Card) -> Result<(), InputError> {
+        if self.options.allow_unknown {
+            self.unknown
+                .add(&card.display, self.files.describe(card.loc));
+            return Ok(());
+        }
+        let hint = nearest_known(&card.keyword)
+            .map_or_else(String::new, |k| format!("; did you mean *{k}?"));
+        Err(self.error(
+            card.loc,
+            format!(
+                "unknown keyword {}{hint} (a keyword flexbody does not know may change K, M or D; \
+                 --allow-unknown skips unknown keywords with a warning)",
+                card.display
+            ),
+        ))
     }
 
     /// Records `*KEY (line n)` the first time a keyword is skipped.

@@ -27,7 +27,7 @@
 //! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning |
 //! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped with a warning: they do not change K or M of the linear model |
 //! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*KINEMATIC COUPLING`, `*DISTRIBUTING COUPLING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
-//! | unknown keywords | skipped with a warning |
+//! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
 //! Errors name the file and line that is wrong (an included file's own line)
 //! and the element, node, set or material. The model is checked as a whole
@@ -39,9 +39,13 @@
 mod build;
 mod cards;
 mod keywords;
+mod known;
 mod properties;
 #[cfg(test)]
 mod tests;
+mod unknown;
+
+pub use unknown::{DeckOptions, UnknownKeyword, UnknownKeywords};
 
 use crate::InputError;
 use std::collections::BTreeMap;
@@ -59,28 +63,33 @@ pub struct Deck {
     /// Keywords that were ignored, with the line of first use: `"*STEP
     /// (line 40)"`; also ignored parameters and ignored fixed DOFs.
     pub warnings: Vec<String>,
+    /// Unknown keywords skipped (only under
+    /// [`DeckOptions::allow_unknown`]; otherwise they are errors).
+    pub unknown: UnknownKeywords,
 }
 
 /// Reads and checks a deck file.
-pub fn read_deck(path: &Path) -> Result<Deck, InputError> {
+pub fn read_deck(path: &Path, options: &DeckOptions) -> Result<Deck, InputError> {
     let bytes = std::fs::read(path).map_err(|source| InputError::Read {
         path: path.to_path_buf(),
         cause: source,
     })?;
-    parse_deck(path, &String::from_utf8_lossy(&bytes))
+    parse_deck(path, &String::from_utf8_lossy(&bytes), options)
 }
 
 /// Parses and checks the text of a deck; `path` names it in errors and
 /// `*INCLUDE` files are found relative to its folder.
-pub fn parse_deck(path: &Path, text: &str) -> Result<Deck, InputError> {
+pub fn parse_deck(path: &Path, text: &str, options: &DeckOptions) -> Result<Deck, InputError> {
     let (files, cards) = cards::read_cards(path, text)?;
-    let mut reader = keywords::Reader::new(&files);
+    let mut reader = keywords::Reader::new(&files, *options);
     reader.read(&cards)?;
+    let unknown = std::mem::take(&mut reader.unknown);
     let built = build::build(reader)?;
     Ok(Deck {
         path: path.to_path_buf(),
         model: built.model,
         element_sets: built.element_sets,
         warnings: built.warnings,
+        unknown,
     })
 }

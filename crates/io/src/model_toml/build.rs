@@ -4,6 +4,7 @@
 //! boundary conditions, couplings. Every error names the line.
 
 use super::raw::{BeamKind, RawElement, RawModel};
+use crate::deck::{DeckOptions, UnknownKeywords};
 use crate::{InputError, TomlSource};
 use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
 use flexbody_fem::section::SectionConstants;
@@ -13,23 +14,29 @@ use flexbody_fem::{
 use std::collections::{BTreeMap, HashMap, HashSet};
 use toml::Spanned;
 
-/// Checks the raw sections and assembles the model they describe.
-pub(crate) fn build(src: TomlSource<'_>, raw: &RawModel) -> Result<Model, InputError> {
+/// Checks the raw sections and assembles the model they describe, with the
+/// unknown keywords its deck skipped (`options.allow_unknown`).
+pub(crate) fn build(
+    src: TomlSource<'_>,
+    raw: &RawModel,
+    options: &DeckOptions,
+) -> Result<(Model, UnknownKeywords), InputError> {
     let mut b = Builder::new(src, raw)?;
     for n in &raw.nodes {
         let (id, x, y, z) = *n.get_ref();
         b.add_node(id, [x, y, z], n.span().start)?;
     }
     b.beam_lines(raw)?;
-    if let Some(mesh) = &raw.mesh {
-        b.deck_mesh(mesh)?;
-    }
+    let unknown = match &raw.mesh {
+        Some(mesh) => b.deck_mesh(mesh, options)?,
+        None => UnknownKeywords::default(),
+    };
     let known: HashSet<u64> = b.nodes.iter().map(|n| n.id).collect();
     b.elements(raw, &known)?;
     b.node_sets(raw, &known)?;
     b.boundaries(raw, &known)?;
     let couplings = b.couplings(raw, &known)?;
-    b.finish(raw, couplings)
+    Ok((b.finish(raw, couplings)?, unknown))
 }
 
 /// The model as it grows, with the line each node and element came from.
@@ -208,9 +215,13 @@ impl<'a> Builder<'a> {
     }
 
     /// `mesh = "deck.inp"`: the deck's nodes, elements, node sets and fixed
-    /// DOFs.
-    fn deck_mesh(&mut self, mesh: &Spanned<String>) -> Result<(), InputError> {
-        let deck = crate::deck::read_deck(&self.src.relative(mesh.get_ref()))?;
+    /// DOFs; the unknown keywords it skipped.
+    fn deck_mesh(
+        &mut self,
+        mesh: &Spanned<String>,
+        options: &DeckOptions,
+    ) -> Result<UnknownKeywords, InputError> {
+        let deck = crate::deck::read_deck(&self.src.relative(mesh.get_ref()), options)?;
         let offset = mesh.span().start;
         for n in deck.model.nodes() {
             self.add_node(n.id, n.coords, offset)?;
@@ -225,7 +236,7 @@ impl<'a> Builder<'a> {
                 .extend(set.iter().copied());
         }
         self.deck_fixed = deck.model.fixed_dofs().copied().collect();
-        Ok(())
+        Ok(deck.unknown)
     }
 
     fn check_node(

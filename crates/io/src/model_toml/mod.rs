@@ -13,6 +13,7 @@ mod raw;
 
 pub use raw::DofEntry;
 
+use crate::deck::{DeckOptions, UnknownKeywords};
 use crate::{InputError, TomlSource};
 use flexbody_fem::Model;
 
@@ -21,15 +22,22 @@ use flexbody_fem::Model;
 pub struct ModelToml {
     pub title: Option<String>,
     pub model: Model,
+    /// Unknown keywords the `mesh` deck skipped (only under
+    /// [`DeckOptions::allow_unknown`]).
+    pub unknown: UnknownKeywords,
 }
 
 /// Reads the model sections of a TOML text and builds the model; errors
-/// name the file and line.
-pub fn parse_model_toml(src: TomlSource<'_>) -> Result<ModelToml, InputError> {
+/// name the file and line. A `mesh` deck is read with `options`.
+pub fn parse_model_toml(
+    src: TomlSource<'_>,
+    options: &DeckOptions,
+) -> Result<ModelToml, InputError> {
     let raw: raw::RawModel = src.parse()?;
-    let model = build::build(src, &raw)?;
+    let (model, unknown) = build::build(src, &raw, options)?;
     Ok(ModelToml {
         title: raw.title,
         model,
+        unknown,
     })
 }

@@ -4,7 +4,7 @@ use super::*;
 
 #[test]
 fn include_files_are_read_in_place() {
-    let deck = read_deck(&path_in_decks("include_main.inp")).unwrap();
+    let deck = read_deck(&path_in_decks("include_main.inp"), &DeckOptions::default()).unwrap();
     assert_eq!(deck.model.nodes().len(), 8);
     assert_eq!(deck.model.node_sets()["NALL"].len(), 8);
     assert_eq!(deck.model.dof_map().len(), 8 * 3 - 3);
@@ -13,7 +13,7 @@ fn include_files_are_read_in_place() {
 
 #[test]
 fn an_error_in_an_included_file_names_that_file_and_line() {
-    let e = read_deck(&path_in_decks("include_bad.inp")).unwrap_err();
+    let e = read_deck(&path_in_decks("include_bad.inp"), &DeckOptions::default()).unwrap_err();
     match &e {
         InputError::Invalid { path, line, .. } => {
             assert!(path.ends_with("include_bad_material.inp"), "{e}");
@@ -36,7 +36,7 @@ fn include_relative_to_the_deck_in_a_temporary_folder() {
     let main = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n*INCLUDE, INPUT=sub/beam.inp\n\
                 *MATERIAL, NAME=S\n*ELASTIC\n2e11, 0.3\n*DENSITY\n7800\n\
                 *BEAM SECTION, ELSET=B, MATERIAL=S, SECTION=CIRC\n0.01\n";
-    let deck = parse_deck(&dir.join("main.inp"), main);
+    let deck = parse_deck(&dir.join("main.inp"), main, &DeckOptions::default());
     std::fs::remove_dir_all(&dir).ok();
     let deck = deck.unwrap();
     assert_eq!(deck.model.elements().len(), 1);

@@ -7,7 +7,7 @@ use super::*;
 #[test]
 fn ignored_unknown_and_refused_keywords() {
     let text = BEAM.to_string()
-        + "*ORIENTATION, NAME=OR1\n1., 0., 0., 0., 1., 0.\n*FOO BAR\n1, 2\n\
+        + "*ORIENTATION, NAME=OR1\n1., 0., 0., 0., 1., 0.\n\
            *STEP, PERTURBATION\n*STATIC\n*CLOAD\n3, 3, 1000.\n*EL PRINT, ELSET=BEAM\nS\n*END STEP\n\
            *STEP\n*FREQUENCY\n5\n*END STEP\n";
     let deck = parse(&text).unwrap();
@@ -16,10 +16,6 @@ fn ignored_unknown_and_refused_keywords() {
         deck.warnings,
         vec![
             format!("*ORIENTATION (line {})", line_of(&text, "*ORIENTATION")),
-            format!(
-                "*FOO BAR (line {}): unknown keyword, skipped",
-                line_of(&text, "*FOO")
-            ),
             format!("*STEP (line {step})"),
             format!("*STATIC (line {})", step + 1),
             format!("*CLOAD (line {})", step + 2),
@@ -43,6 +39,87 @@ fn ignored_unknown_and_refused_keywords() {
         let first = keyword.lines().next().unwrap();
         assert_error(&text, first, &["is not supported", what]);
     }
+}
+
+#[test]
+fn an_unknown_keyword_is_refused_naming_file_line_and_nearest_keyword() {
+    // A misspelt *BOUNDARY would leave the beam free-free.
+    let text = BEAM.to_string() + "*BOUNDRY\n1, 1, 6\n*STEP\n*FREQUENCY\n5\n*END STEP\n";
+    let e = parse(&text).unwrap_err();
+    let InputError::Invalid {
+        path,
+        line,
+        message,
+    } = &e
+    else {
+        panic!("not an input error: {e}");
+    };
+    assert_eq!(path, Path::new("test.inp"));
+    assert_eq!(*line, Some(line_of(&text, "*BOUNDRY")));
+    assert!(message.contains("unknown keyword *BOUNDRY"), "{message}");
+    assert!(message.contains("did you mean *BOUNDARY?"), "{message}");
+    assert!(message.contains("--allow-unknown"), "{message}");
+    assert!(e
+        .to_string()
+        .starts_with(&format!("test.inp:{}:", line.unwrap())));
+    // The suggestion keeps the spaces of a two-word keyword.
+    let text = BEAM.to_string() + "*SOLID SECTON, ELSET=BEAM, MATERIAL=STEEL\n";
+    let (_, message) = error_of(&text);
+    assert!(
+        message.contains("did you mean *SOLID SECTION?"),
+        "{message}"
+    );
+    // Nothing close: no suggestion.
+    let text = BEAM.to_string() + "*FOO BAR\n1, 2\n";
+    let (line, message) = error_of(&text);
+    assert_eq!(line, line_of(&text, "*FOO BAR"));
+    assert!(message.contains("unknown keyword *FOO BAR"), "{message}");
+    assert!(!message.contains("did you mean"), "{message}");
+}
+
+#[test]
+fn allowed_unknown_keywords_are_skipped_and_listed_once_each() {
+    let text = BEAM.to_string()
+        + "*FOO BAR\n1, 2\n*BOUNDRY\n3, 1, 6\n*STEP\n*FREQUENCY\n5\n*END STEP\n*FOO BAR\n";
+    let allow = DeckOptions {
+        allow_unknown: true,
+    };
+    let deck = parse_deck(Path::new("test.inp"), &text, &allow).unwrap();
+    let strict = parse(BEAM).unwrap();
+    // Read as if the unknown keywords were not there: node 3 stays free.
+    assert_eq!(deck.model.nodes().len(), strict.model.nodes().len());
+    assert_eq!(deck.model.fixed_dofs().count(), 6);
+    assert_eq!(strict.model.fixed_dofs().count(), 6);
+    let foo: Vec<usize> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with("*FOO"))
+        .map(|(i, _)| i + 1)
+        .collect();
+    let boundry = line_of(&text, "*BOUNDRY");
+    assert_eq!(
+        deck.unknown.keywords,
+        vec![
+            UnknownKeyword {
+                keyword: "*FOO BAR".into(),
+                lines: foo.iter().map(|l| format!("line {l}")).collect(),
+            },
+            UnknownKeyword {
+                keyword: "*BOUNDRY".into(),
+                lines: vec![format!("line {boundry}")],
+            },
+        ]
+    );
+    assert!(deck.warnings.iter().all(|w| !w.contains("FOO")));
+    assert_eq!(
+        deck.unknown.summary().unwrap(),
+        format!(
+            "test.inp: unknown keywords skipped (--allow-unknown; they may have changed K, M or D): \
+             *FOO BAR (lines {}, {}), *BOUNDRY (line {boundry})",
+            foo[0], foo[1]
+        )
+    );
+    assert_eq!(strict.unknown.summary(), None);
 }
 
 #[test]

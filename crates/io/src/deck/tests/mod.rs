@@ -13,7 +13,7 @@ mod registry;
 mod solids;
 
 fn parse(text: &str) -> Result<Deck, InputError> {
-    parse_deck(Path::new("test.inp"), text)
+    parse_deck(Path::new("test.inp"), text, &DeckOptions::default())
 }
 
 /// 1-based line of the first line of `text` containing `needle`.
