@@ -72,7 +72,6 @@ pub(super) const IGNORED: &[&str] = &[
     "PHYSICALCONSTANTS",
     "VALUESATINFINITY",
     "ORIENTATION",
-    "SURFACE",
     "SURFACEINTERACTION",
     "SURFACEBEHAVIOR",
     "FRICTION",
