@@ -6,7 +6,7 @@
 //! recovery of element quantities, which matrices alone cannot give.
 
 use crate::fem::{Dof, Model, Substructure, SystemMatrices};
-use crate::io::deck::{DeckOptions, UnknownKeywords};
+use crate::io::deck::{Catalogue, DeckOptions, UnknownKeywords};
 use crate::io::InputError;
 use crate::reduce::{Method, Reduction};
 use crate::scenario::{read_model_file_with, ModelFile};
@@ -22,6 +22,10 @@ pub struct Component {
     pub model: Option<Model>,
     /// The model file, when the input was one (interface, MBS, study).
     pub file: Option<ModelFile>,
+    /// Element sets of a deck (upper-case name -> element ids).
+    pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// Materials and sections of a deck.
+    pub catalogue: Catalogue,
     /// Ignored keywords of a deck, for the user to see.
     pub warnings: Vec<String>,
     /// Unknown keywords of a deck (also one a model file names) that were
@@ -55,8 +59,8 @@ pub enum LoadError {
     UnknownType(PathBuf),
     #[error("{}: Matrix Market input needs --mass M.mtx and --dofs DOFS.txt", .0.display())]
     MissingMatrixFiles(PathBuf),
-    #[error("interface '{0}' is neither a node set nor a node number")]
-    UnknownInterface(String),
+    #[error("interface '{name}' is neither a node set nor a node number; {sets}")]
+    UnknownInterface { name: String, sets: String },
     #[error("interface node {0} has no DOFs")]
     InterfaceNodeWithoutDofs(u64),
 }
@@ -100,6 +104,8 @@ pub fn load_with(
                 model: Some(file.model.clone()),
                 unknown_keywords: file.unknown_keywords.clone(),
                 file: Some(file),
+                element_sets: BTreeMap::new(),
+                catalogue: Catalogue::default(),
                 warnings: vec![],
                 timing: timing(),
             })
@@ -111,6 +117,8 @@ pub fn load_with(
                 sub: assemble(&deck.model)?,
                 model: Some(deck.model),
                 file: None,
+                element_sets: deck.element_sets,
+                catalogue: deck.catalogue,
                 warnings: deck.warnings,
                 unknown_keywords: deck.unknown,
                 timing: timing(),
@@ -142,6 +150,8 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
         sub: Substructure::from_matrices(m.dof_map, matrices, Default::default()),
         model: None,
         file: None,
+        element_sets: BTreeMap::new(),
+        catalogue: Catalogue::default(),
         warnings: vec![],
         unknown_keywords: UnknownKeywords::default(),
         timing: (seconds, 0.0),
@@ -155,15 +165,11 @@ impl Component {
     }
 
     /// Interface DOFs from a comma-separated list of node sets and node
-    /// numbers (all free DOFs of each node), or the model file's interface
-    /// when `spec` is `None`.
+    /// numbers (all free DOFs of each node), or the default interface
+    /// ([`Component::default_interface`]) when `spec` is `None`.
     pub fn interface(&self, spec: Option<&str>) -> Result<Vec<Dof>, LoadError> {
         let Some(spec) = spec else {
-            return Ok(self
-                .file
-                .as_ref()
-                .map(|f| f.interface.clone())
-                .unwrap_or_default());
+            return Ok(self.default_interface().map(|d| d.dofs).unwrap_or_default());
         };
         let sets: BTreeMap<String, Vec<u64>> = self
             .model
@@ -181,7 +187,10 @@ impl Component {
                 Some(n) => n.clone(),
                 None => vec![token
                     .parse::<u64>()
-                    .map_err(|_| LoadError::UnknownInterface(token.to_string()))?],
+                    .map_err(|_| LoadError::UnknownInterface {
+                        name: token.to_string(),
+                        sets: self.node_set_list(),
+                    })?],
             };
             for node in nodes {
                 let kinds = self.sub.dof_map.node_dofs(node);
@@ -197,6 +206,76 @@ impl Component {
             }
         }
         Ok(dofs)
+    }
+}
+
+/// The interface a command takes when none is given, and where it comes
+/// from, for the command to say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DefaultInterface {
+    pub dofs: Vec<Dof>,
+    /// E.g. "the model file's `[interface]` table" or "the reference nodes
+    /// of the deck's couplings (9001, 9002), all their DOFs".
+    pub source: String,
+}
+
+impl Component {
+    /// The interface without `--interface`: the model file's own (its
+    /// `[interface]` table, or the DOFs its connections act on); else the
+    /// reference nodes of the model's couplings, every free DOF of each;
+    /// `None` where there is neither.
+    pub fn default_interface(&self) -> Option<DefaultInterface> {
+        if let Some(file) = self.file.as_ref().filter(|f| !f.interface.is_empty()) {
+            return Some(DefaultInterface {
+                dofs: file.interface.clone(),
+                source:
+                    "the model file's interface ([interface], or the DOFs its connections act on)"
+                        .to_string(),
+            });
+        }
+        let couplings = self.model.as_ref()?.couplings();
+        let mut nodes: Vec<u64> = Vec::new();
+        for c in couplings {
+            if !nodes.contains(&c.point) {
+                nodes.push(c.point);
+            }
+        }
+        let dofs: Vec<Dof> = nodes
+            .iter()
+            .flat_map(|&n| {
+                self.sub
+                    .dof_map
+                    .node_dofs(n)
+                    .into_iter()
+                    .map(move |(k, _)| Dof::new(n, k))
+            })
+            .collect();
+        if dofs.is_empty() {
+            return None;
+        }
+        let list: Vec<String> = nodes.iter().map(u64::to_string).collect();
+        Some(DefaultInterface {
+            dofs,
+            source: format!(
+                "the reference nodes of the couplings (node {}), all their DOFs",
+                list.join(", ")
+            ),
+        })
+    }
+
+    /// "node sets here: A (4 nodes), B (2 nodes)", or that there are none.
+    pub fn node_set_list(&self) -> String {
+        let sets = self.model.as_ref().map(|m| m.node_sets());
+        match sets.filter(|s| !s.is_empty()) {
+            None => "the model has no node sets".to_string(),
+            Some(sets) => {
+                let names: Vec<String> = sets
+                    .iter()
+                    .map(|(name, nodes)| format!("{name} ({} nodes)", nodes.len()))
+                    .collect();
+                format!("node sets here: {}", names.join(", "))
+            }
+        }
     }
 }
 

@@ -29,6 +29,7 @@
 
 pub mod file_kind;
 pub mod input;
+pub mod model_summary;
 pub mod output;
 pub mod output_folder;
 pub mod plot;

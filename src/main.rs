@@ -48,19 +48,17 @@ struct Cli {
     /// Lanczos steps, solves) with its time on stderr.
     #[arg(long, short, global = true)]
     verbose: bool,
-    /// Refuse a sparse factorisation whose factor (with, before an eigen
-    /// solve, the Lanczos basis), or a dense eigen solve whose matrices,
-    /// would take this process beyond this many GiB (2^30 bytes) of
-    /// resident memory, before any of it is stored (the solver's other
-    /// arrays come on top). The machine's available memory and the
-    /// cgroup's limit are always checked this way.
+    /// Refuse a factorisation or eigen solve that would exceed GIB GiB of
+    /// memory (free memory is always checked).
     #[arg(long, global = true, value_name = "GIB", value_parser = parse_gib)]
     max_memory: Option<u64>,
-    /// Skip deck keywords flexbody does not know (misspelt or unsupported),
-    /// with one warning listing them and their lines, instead of refusing
-    /// the deck. A skipped keyword may have changed K, M or D.
+    /// Skip unknown deck keywords with one warning instead of refusing the
+    /// deck (they may have changed K, M or D).
     #[arg(long, global = true)]
     allow_unknown: bool,
+    /// No progress lines on stderr (warnings and errors still show).
+    #[arg(long, short, global = true, conflicts_with = "verbose")]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -71,7 +69,7 @@ enum Command {
     Study {
         /// Model file (TOML).
         model: PathBuf,
-        /// Print the table as JSON: {"cases":[{"method","r","omega","err_w","err_m","err_q","err_force","err_vm"}]} (err_m, err_q for beams; err_vm for solids).
+        /// Print the table as JSON: {"cases":[{"method","r","omega","err_w","err_m","err_q","err_force","err_vm"}],"failed":[{"method","modes","error"}]} (err_m, err_q for beams; err_vm for solids).
         #[arg(long)]
         json: bool,
         /// Directory for the SVG plots (default: out/<model name>).
@@ -81,22 +79,26 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
-    /// Reduce a model and write the reduced body (JSON).
+    /// Reduce a model to a flexible body and write it (JSON, SID or Matrix Market; a VTU of its modes with --vtu).
+    #[command(after_help = METHODS_HELP)]
     Reduce {
         /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
         model: PathBuf,
         /// Interface: comma-separated node sets or node numbers (all DOFs of
-        /// each node). Default: the model file's interface.
+        /// each node). Default: the model file's interface, else the
+        /// reference nodes of the model's couplings.
         #[arg(long)]
         interface: Option<String>,
         #[command(flatten)]
         matrices: MatrixArgs,
-        /// Reduction method.
+        /// Reduction method: free, craig-bampton, elastic-residual,
+        /// free-residual or guyan (see below).
         #[arg(long, value_parser = parse_method)]
         method: Method,
-        /// Eigenmodes e (for `free`: the total r, rigid-body modes included).
-        #[arg(long, default_value_t = 0)]
-        modes: usize,
+        /// Eigenmodes e, counted as the method counts them (see below);
+        /// required unless --fmax is given (guyan takes none).
+        #[arg(long)]
+        modes: Option<usize>,
         /// Instead of --modes: every eigenmode below this frequency (Hz), the
         /// report's e = modes in the excitation band.
         #[arg(long)]
@@ -148,8 +150,11 @@ enum Command {
     Inspect {
         /// Reduced-body file or folder.
         body: PathBuf,
+        /// Print the summary as JSON: {"format","r","mass_kg","interface_nodes","frequencies_hz",..}.
+        #[arg(long)]
+        json: bool,
     },
-    /// Read and assemble a model; print its size, mass, and the time and memory it took (with --factor, the size of its sparse factor).
+    /// Read and assemble a model; print its size, sets, couplings, materials, sections, fixed DOFs and mass, and the time and memory it took (with --factor, the size of its sparse factor).
     Info {
         /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
         model: PathBuf,
@@ -182,6 +187,23 @@ enum Command {
         json: bool,
     },
 }
+
+/// What `--modes` means for each method, after `reduce --help`.
+const METHODS_HELP: &str = "\
+Methods (r = the body's coordinates; --modes gives e):
+  free              free-interface eigenmodes only; --modes is r in all,
+                    rigid-body modes included. Fine for w, poor for forces.
+  craig-bampton     e eigenmodes with the interface held, plus one static
+                    constraint mode per interface DOF (r = e + interface DOFs).
+  elastic-residual  e eigenmodes on the connections as elastic supports,
+                    plus static residual modes (the report's best for
+                    section forces).
+  free-residual     e free elastic eigenmodes, the rigid-body modes, plus
+                    inertia-relief residual modes per interface DOF or force
+                    group; needs no static support at the interface.
+  guyan             static condensation on the interface DOFs; no
+                    eigenmodes (--modes 0 or omitted).
+--fmax F instead of --modes takes every eigenmode below F Hz.";
 
 /// Extra files for Matrix Market input.
 #[derive(clap::Args)]
@@ -229,7 +251,7 @@ fn main() -> ExitCode {
     flexbody::linalg::memory::tune_allocator();
     let start = std::time::Instant::now();
     let cli = Cli::parse();
-    let progress = stage_log::install(cli.verbose, start);
+    let progress = stage_log::install(stage_log::Mode::of(cli.verbose, cli.quiet), start);
     let result = run(cli, &*progress);
     // The terminal display is cleared before an error is printed.
     drop(progress);
@@ -295,9 +317,14 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             matrices,
             factor,
         } => run_info(&model, &matrices, deck, factor, budget),
-        Command::Inspect { body } => {
+        Command::Inspect { body, json } => {
             Takes::INSPECT.check(&body)?;
-            say!("{}", export::read_any(&body)?.summary());
+            let read = export::read_any(&body)?;
+            if json {
+                say!("{}", serde_json::to_string_pretty(&read.summary_json())?);
+            } else {
+                say!("{}", read.summary());
+            }
             Ok(())
         }
         Command::Simulate { model, out, full } => {
@@ -340,18 +367,24 @@ fn run_study(
         folder.keep();
     }
     if json {
-        let doc = serde_json::json!({ "cases": result.rows() });
+        let doc = serde_json::json!({ "cases": result.rows(), "failed": result.failures });
         say!("{}", serde_json::to_string_pretty(&doc)?);
-        return Ok(());
+    } else {
+        say!(
+            "{}",
+            report::study_table(&result, file.model.dof_map().len())
+        );
+        if let Some(dir) = dir {
+            say!("plots: {}", dir.display());
+        }
     }
-    say!(
-        "{}",
-        report::study_table(&result, file.model.dof_map().len())
-    );
-    if let Some(dir) = dir {
-        say!("plots: {}", dir.display());
+    match result.failures.len() {
+        0 => Ok(()),
+        n => anyhow::bail!(
+            "{n} of {} study cases failed (the table names why)",
+            n + result.cases.len() / result.references.len().max(1)
+        ),
     }
-    Ok(())
 }
 
 /// The component at `model`, for the command that `takes` it.
@@ -384,7 +417,7 @@ fn run_reduce(
     matrices: &MatrixArgs,
     deck: DeckOptions,
     method: Method,
-    (modes, fmax): (usize, Option<f64>),
+    (modes, fmax): (Option<usize>, Option<f64>),
     (out, format, vtu): (&Path, export::Format, Option<&Path>),
     orthonormalize: bool,
     (json, check): (bool, Check),
@@ -408,7 +441,25 @@ fn run_reduce(
     }
     // The assembly's work arrays go back before the factorisations.
     flexbody::linalg::memory::release_free_memory();
-    let interface = c.interface(interface)?;
+    let modes = reduce_modes(method, modes, fmax)?;
+    let interface = match interface {
+        Some(given) => c.interface(Some(given))?,
+        None => match c.default_interface() {
+            Some(default) => {
+                eprintln!("interface: {}; --interface names another", default.source);
+                default.dofs
+            }
+            None if method != Method::Free => anyhow::bail!(
+                "{}: the {method} method needs interface DOFs and none are given: name them with \
+                 --interface SETS_OR_NODES (comma-separated; {}), or give the model file an \
+                 [interface] table or connections, or the deck a *COUPLING (its reference \
+                 node becomes the interface)",
+                model.display(),
+                c.node_set_list()
+            ),
+            None => Vec::new(),
+        },
+    };
     let mut spec = match &c.file {
         Some(file) => input::file_reduction(file, method, modes, interface),
         None => Reduction::new(method, modes, interface),
@@ -438,8 +489,17 @@ fn run_reduce(
     let files = output::body_output(&c.sub, c.model.as_ref(), &body, format, metadata)?;
     export::write(&files, format, out)?;
     stage_log::step(&format!("written: {}", out.display()));
+    let mut written = vec![match format {
+        export::Format::Mtx => format!(
+            "{} (a folder: index.json and a Matrix Market file per matrix)",
+            out.display()
+        ),
+        _ => out.display().to_string(),
+    }];
     if let (Some(path), Some(mesh)) = (vtu, &c.model) {
+        stage_log::step(&format!("writing the mode shapes to {}", path.display()));
         export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, path)?;
+        written.push(format!("{} (mode shapes for ParaView)", path.display()));
     }
     if json {
         let doc =
@@ -451,7 +511,7 @@ fn run_reduce(
         "{} reduction, r = {}, written to {}",
         method,
         body.r(),
-        out.display()
+        written.join(" and ")
     );
     match full_hz {
         Some(full_hz) => {
@@ -476,6 +536,21 @@ fn run_reduce(
         }
     }
     Ok(())
+}
+
+/// The eigenmodes `reduce` asks for: `--modes`, or none beside `--fmax`
+/// and for `guyan`; every other method needs one of the two.
+fn reduce_modes(method: Method, modes: Option<usize>, fmax: Option<f64>) -> Result<usize> {
+    match (modes, fmax) {
+        (Some(m), _) => Ok(m),
+        (None, Some(_)) => Ok(0),
+        (None, None) if method == Method::Guyan => Ok(0),
+        (None, None) => anyhow::bail!(
+            "the {method} method needs --modes N (its eigenmodes e; for free the total r, \
+             rigid-body modes included) or --fmax F (every eigenmode below F Hz); \
+             `flexbody reduce --help` says what each method counts"
+        ),
+    }
 }
 
 /// The modes `flexbody modes` computes: `--count` (default 10), every one
@@ -553,7 +628,10 @@ fn run_info(
         .iter()
         .map(|m| format!("{m:.6e}"))
         .collect();
-    say!("mass along x, y, z (kg): {}", masses.join(", "));
+    say!("mass along x, y, z (kg), free DOFs: {}", masses.join(", "));
+    for line in flexbody::model_summary::lines(&c)? {
+        say!("{line}");
+    }
     say!(
         "read in {:.3} s, assembled in {:.3} s ({seconds:.3} s in all); peak memory {}",
         c.timing.0,
@@ -617,13 +695,13 @@ fn run_simulate(
     let csv = out.join("histories.csv");
     simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
     folder.keep();
-    plot::plot_histories(out, &h, v.label()).map_err(anyhow::Error::msg)?;
+    let plots = plot::plot_histories(out, &h, v.label()).map_err(anyhow::Error::msg)?;
     say!(
         "{} steps to t = {} s ({}); wrote {}",
         h.times.len() - 1,
         h.times.last().copied().unwrap_or(0.0),
         v.label(),
-        csv.display()
+        written_list(&csv, &plots)
     );
     say!("{:<40} {:>14} {:>14}", "history", "min", "max");
     for (name, lo, hi) in h.ranges() {
@@ -645,7 +723,8 @@ fn run_frf(
     let csv = out.join("frf.csv");
     simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
     folder.keep();
-    plot::plot_transfer(out, &t, v.file.connections.len()).map_err(anyhow::Error::msg)?;
+    let plots =
+        plot::plot_transfer(out, &t, v.file.connections.len()).map_err(anyhow::Error::msg)?;
     say!("damped modes of the coupled system (eq. 21, connections linearized at rest):");
     match simulate::coupled_modes_if_dense(&v.file, v.flexible())? {
         Err(why) => say!("  not computed: {why}"),
@@ -668,6 +747,19 @@ fn run_frf(
             }
         }
     }
-    say!("wrote {}", csv.display());
+    say!("wrote {}", written_list(&csv, &plots));
     Ok(())
+}
+
+/// "out/histories.csv, out/connections.svg and out/histories.svg".
+fn written_list(csv: &Path, plots: &[PathBuf]) -> String {
+    let mut all: Vec<String> = std::iter::once(csv)
+        .chain(plots.iter().map(PathBuf::as_path))
+        .map(|p| p.display().to_string())
+        .collect();
+    match all.pop() {
+        Some(last) if !all.is_empty() => format!("{} and {last}", all.join(", ")),
+        Some(last) => last,
+        None => String::new(),
+    }
 }

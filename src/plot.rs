@@ -9,7 +9,7 @@ use crate::study::{fmt_omega, BeamResponse, Field, StudyResult};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The plots of a study in `dir`: per excitation frequency a convergence
 /// plot (`convergence_omega<Omega>.svg`), and per case with curves the
@@ -316,10 +316,12 @@ pub fn plot_convergence(
 /// The plots of a run in time in `dir`: `connections.svg` (connection
 /// forces) and, where there are such histories, `histories.svg` (rigid
 /// bodies, bending moments and shear forces at element ends). `label`
-/// names what ran (reduced body or full FE model).
-pub fn plot_histories(dir: &Path, h: &Histories, label: &str) -> Result<(), String> {
+/// names what ran (reduced body or full FE model). Returns the files
+/// written.
+pub fn plot_histories(dir: &Path, h: &Histories, label: &str) -> Result<Vec<PathBuf>, String> {
+    let mut written = vec![dir.join("connections.svg")];
     plot_panels(
-        &dir.join("connections.svg"),
+        &written[0],
         &format!("connection forces ({label})"),
         "t (s)",
         &h.times,
@@ -352,22 +354,25 @@ pub fn plot_histories(dir: &Path, h: &Histories, label: &str) -> Result<(), Stri
         });
     }
     if panels.is_empty() {
-        return Ok(());
+        return Ok(written);
     }
+    written.push(dir.join("histories.svg"));
     plot_panels(
-        &dir.join("histories.svg"),
+        &written[1],
         &format!("histories ({label})"),
         "t (s)",
         &h.times,
         &panels,
-    )
+    )?;
+    Ok(written)
 }
 
 /// The plots of a frequency response in `dir`: magnitude and phase of the
 /// transfer functions to the first `connections` outputs (connection
 /// forces, `frf_connections.svg`) and to the others (section forces,
-/// `frf_sections.svg`, where there are any).
-pub fn plot_transfer(dir: &Path, t: &Transfer, connections: usize) -> Result<(), String> {
+/// `frf_sections.svg`, where there are any). Returns the files written.
+pub fn plot_transfer(dir: &Path, t: &Transfer, connections: usize) -> Result<Vec<PathBuf>, String> {
+    let mut written = Vec::new();
     let mags: Vec<(&str, &[f64])> = t
         .outputs
         .iter()
@@ -397,6 +402,7 @@ pub fn plot_transfer(dir: &Path, t: &Transfer, connections: usize) -> Result<(),
         if k > 0 && range.is_empty() {
             continue;
         }
+        written.push(dir.join(file));
         plot_panels(
             &dir.join(file),
             title,
@@ -416,5 +422,5 @@ pub fn plot_transfer(dir: &Path, t: &Transfer, connections: usize) -> Result<(),
             ],
         )?;
     }
-    Ok(())
+    Ok(written)
 }

@@ -278,6 +278,18 @@ pub fn study_table(result: &StudyResult, dofs: usize) -> String {
         }
         lines.push(line);
     }
+    for f in &result.failures {
+        let modes = match f.fmax {
+            Some(hz) => format!("< {hz} Hz"),
+            None => f.modes.to_string(),
+        };
+        lines.push(format!(
+            "{:<18} {:>4} FAILED: {}",
+            f.method.name(),
+            modes,
+            f.error
+        ));
+    }
     lines.join("\n")
 }
 

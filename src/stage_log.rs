@@ -1,7 +1,7 @@
-//! The command line's view of long linear-algebra work: a spinner on a
-//! terminal, a timed log of every stage with `--verbose`, nothing in pipes
-//! otherwise. A factorisation shows the percent of its work done and the
-//! time left.
+//! The command line's view of long work: a spinner on a terminal; in pipes
+//! and logs a timed line per stage, at most one every few seconds; every
+//! stage with `--verbose`; nothing with `--quiet`. A factorisation shows
+//! the percent of its work done and the time left.
 
 use flexbody::linalg::progress::{NoProgress, Progress, Stage};
 use std::sync::Arc;
@@ -126,31 +126,81 @@ impl Progress for Spinner {
     }
 }
 
-/// `--verbose`: every stage on its own stderr line, with the seconds since
-/// the program started and the resident memory (in pipes too, for logs and
-/// profiling); a factorisation of a TFlop or more also at every tenth.
-struct StageLog(FactorClock);
+/// How much the command says about its progress.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// `--quiet`: nothing.
+    Quiet,
+    /// A spinner on a terminal, else a line every few seconds.
+    Normal,
+    /// `--verbose`: every stage, with the resident memory.
+    Verbose,
+}
 
-/// The program's start when `--verbose` logs, for [`step`].
-static VERBOSE_SINCE: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
-
-/// A line of the `--verbose` log from the command itself (not the linear
-/// algebra), e.g. where a reduction ends and its output begins.
-pub fn step(line: &str) {
-    if let Some(start) = VERBOSE_SINCE.get() {
-        eprintln!(
-            "[{:8.2} s {}] {line}",
-            start.elapsed().as_secs_f64(),
-            resident_memory(),
-        );
+impl Mode {
+    pub fn of(verbose: bool, quiet: bool) -> Mode {
+        match (verbose, quiet) {
+            (true, _) => Mode::Verbose,
+            (false, true) => Mode::Quiet,
+            (false, false) => Mode::Normal,
+        }
     }
 }
+
+/// Seconds between two progress lines in a pipe or log, unless the
+/// environment variable `FLEXBODY_PROGRESS_EVERY` gives another number.
+const EVERY_SECONDS: f64 = 3.0;
+
+/// The timed stderr lines of a run: with `--verbose` every stage, with the
+/// seconds since the program started and the resident memory (for logs
+/// and profiling); otherwise, where stderr is not a terminal, the stage
+/// of the moment once at least `every` seconds have passed since the last
+/// line (so a short run says nothing).
+struct Lines {
+    start: std::time::Instant,
+    verbose: bool,
+    every: f64,
+    /// Seconds since `start` of the last line written.
+    last: std::sync::Mutex<f64>,
+}
+
+impl Lines {
+    fn write(&self, line: &str) {
+        let now = self.start.elapsed().as_secs_f64();
+        if self.verbose {
+            eprintln!("[{now:8.2} s {}] {line}", resident_memory());
+            return;
+        }
+        let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
+        if now - *last >= self.every {
+            *last = now;
+            eprintln!("[{now:8.1} s] {line}");
+        }
+    }
+}
+
+/// The log lines of this run, where there are any, for [`step`].
+static LINES: std::sync::OnceLock<Lines> = std::sync::OnceLock::new();
+
+/// A stage of the command itself (not the linear algebra), e.g. where a
+/// reduction ends and its output begins, for the log.
+pub fn step(line: &str) {
+    if let Some(lines) = LINES.get() {
+        lines.write(line);
+    }
+}
+
+/// The linear algebra's stages as log lines: a factorisation of a TFlop or
+/// more at every tenth with `--verbose`, at every report otherwise (the
+/// log keeps one every few seconds).
+struct StageLog(FactorClock);
 
 impl Progress for StageLog {
     fn report(&self, stage: &Stage) {
         let (line, new_tenth) = self.0.line(stage);
+        let verbose = LINES.get().is_some_and(|l| l.verbose);
         if let Stage::Factoring { flops, .. } = stage {
-            if !new_tenth || *flops < 1e12 {
+            if verbose && (!new_tenth || *flops < 1e12) {
                 return;
             }
         }
@@ -167,20 +217,34 @@ fn resident_memory() -> String {
     })
 }
 
-/// The progress display the library's solvers report to: a spinner on a
-/// terminal (stderr) or, with `--verbose`, a log of stages; nothing
-/// otherwise. Dropping it clears the spinner.
-pub fn install(verbose: bool, start: std::time::Instant) -> Arc<dyn Progress> {
+/// The progress display the library's solvers report to, by `mode`: a
+/// spinner on a terminal (stderr), else timed lines; every stage with
+/// `--verbose`; nothing when quiet. Dropping it clears the spinner.
+pub fn install(mode: Mode, start: std::time::Instant) -> Arc<dyn Progress> {
     use std::io::IsTerminal;
-    if verbose {
-        let _ = VERBOSE_SINCE.set(start);
+    let log = |verbose: bool| -> Arc<dyn Progress> {
+        let every = std::env::var("FLEXBODY_PROGRESS_EVERY")
+            .ok()
+            .and_then(|v| v.parse::<f64>().ok())
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .unwrap_or(EVERY_SECONDS);
+        let _ = LINES.set(Lines {
+            start,
+            verbose,
+            every,
+            last: std::sync::Mutex::new(0.0),
+        });
         Arc::new(StageLog(FactorClock::default()))
-    } else if std::io::stderr().is_terminal() {
-        let bar =
-            indicatif::ProgressBar::new_spinner().with_finish(indicatif::ProgressFinish::AndClear);
-        bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        Arc::new(Spinner(bar, FactorClock::default()))
-    } else {
-        Arc::new(NoProgress)
+    };
+    match mode {
+        Mode::Quiet => Arc::new(NoProgress),
+        Mode::Verbose => log(true),
+        Mode::Normal if std::io::stderr().is_terminal() => {
+            let bar = indicatif::ProgressBar::new_spinner()
+                .with_finish(indicatif::ProgressFinish::AndClear);
+            bar.enable_steady_tick(std::time::Duration::from_millis(120));
+            Arc::new(Spinner(bar, FactorClock::default()))
+        }
+        Mode::Normal => log(false),
     }
 }

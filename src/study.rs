@@ -69,6 +69,17 @@ pub struct BeamResponse {
 }
 
 impl BeamResponse {
+    /// True when nothing moves: every displacement, section force, stress
+    /// and connection force is zero.
+    pub fn is_zero(&self) -> bool {
+        let zero = |v: &[f64]| v.iter().all(|x| *x == 0.0);
+        [&self.w, &self.m, &self.q]
+            .iter()
+            .all(|f| zero(&f.re) && zero(&f.im))
+            && self.forces.iter().all(|f| f.0 == 0.0 && f.1 == 0.0)
+            && zero(&self.von_mises)
+    }
+
     /// Relative error of the connection forces against `reference`.
     pub fn force_error(&self, reference: &BeamResponse) -> f64 {
         let field = |r: &BeamResponse| Field {
@@ -126,13 +137,27 @@ pub struct CaseResult {
     pub reduced: BeamResponse,
 }
 
-/// The whole study: the reference per frequency, then every case.
+/// A case that could not be reduced or solved, and why (the whole chain
+/// of causes, e.g. the mechanism a Craig-Bampton interface leaves).
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseFailure {
+    pub method: Method,
+    pub modes: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fmax: Option<f64>,
+    pub error: String,
+}
+
+/// The whole study: the reference per frequency, then every case that
+/// ran, and the cases that failed (a failing case does not stop the
+/// others).
 #[derive(Clone, Debug)]
 pub struct StudyResult {
     pub title: Option<String>,
     /// `(omega, reference response)` per excitation frequency.
     pub references: Vec<(f64, BeamResponse)>,
     pub cases: Vec<CaseResult>,
+    pub failures: Vec<CaseFailure>,
 }
 
 impl StudyResult {
@@ -192,6 +217,8 @@ pub fn fmt_omega(omega: f64) -> String {
 pub enum StudyError {
     #[error("{0}: the model file has no [study] table")]
     NoStudy(String),
+    #[error("{path}: [study] has nothing to compare: {why}; every response and every error would be zero")]
+    NoExcitation { path: String, why: String },
     #[error("reference solution: {0}")]
     Reference(String),
     #[error("case {method} with modes = {modes}")]
@@ -238,6 +265,7 @@ pub fn run_cases(
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<StudyResult, StudyError> {
+    check_excitation(file)?;
     let sub =
         Substructure::from_model(&file.model).map_err(|e| StudyError::Reference(e.to_string()))?;
     let full = FlexibleBody::Full {
@@ -253,39 +281,115 @@ pub fn run_cases(
                 .map_err(|e| StudyError::Reference(e.to_string()))
         })
         .collect::<Result<Vec<_>, _>>()?;
+    if references.iter().all(|(_, r)| r.is_zero()) {
+        return Err(no_excitation(
+            file,
+            "the full model's response is zero at every Omega",
+        ));
+    }
     let mut cases = Vec::new();
+    let mut failures = Vec::new();
     for case in &spec.cases {
-        let body = reduce_case(file, &sub, case, budget, progress)?;
-        for (omega, reference) in &references {
-            let reduced = respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| {
-                StudyError::Case {
-                    method: case.method,
-                    modes: case.modes,
-                    message: e.to_string(),
-                }
-            })?;
-            let row = CaseRow {
+        match run_case(file, &sub, case, &references, budget, progress) {
+            Ok(results) => cases.extend(results),
+            Err(e) => failures.push(CaseFailure {
                 method: case.method,
-                r: body.r(),
-                omega: *omega,
-                err_w: reduced.w.relative_error(&reference.w),
-                err_m: (!reference.m.x.is_empty()).then(|| reduced.m.relative_error(&reference.m)),
-                err_q: (!reference.q.x.is_empty()).then(|| reduced.q.relative_error(&reference.q)),
-                err_force: reduced.force_error(reference),
-                err_vm: reduced.von_mises_error(reference),
-            };
-            cases.push(CaseResult {
-                case: case.clone(),
-                row,
-                reduced,
-            });
+                modes: case.modes,
+                fmax: case.fmax,
+                error: match &e {
+                    StudyError::Reduce { source, .. } => causes(source),
+                    StudyError::Case { message, .. } => message.clone(),
+                    other => causes(other),
+                },
+            }),
         }
     }
     Ok(StudyResult {
         title: file.title.clone(),
         references,
         cases,
+        failures,
     })
+}
+
+/// One case at every excitation frequency, against the references.
+fn run_case(
+    file: &ModelFile,
+    sub: &Substructure,
+    case: &CaseSpec,
+    references: &[(f64, BeamResponse)],
+    budget: Budget,
+    progress: &dyn Progress,
+) -> Result<Vec<CaseResult>, StudyError> {
+    let body = reduce_case(file, sub, case, budget, progress)?;
+    let mut results = Vec::new();
+    for (omega, reference) in references {
+        let reduced =
+            respond(file, FlexibleBody::Reduced(&body), *omega).map_err(|e| StudyError::Case {
+                method: case.method,
+                modes: case.modes,
+                message: e.to_string(),
+            })?;
+        let row = CaseRow {
+            method: case.method,
+            r: body.r(),
+            omega: *omega,
+            err_w: reduced.w.relative_error(&reference.w),
+            err_m: (!reference.m.x.is_empty()).then(|| reduced.m.relative_error(&reference.m)),
+            err_q: (!reference.q.x.is_empty()).then(|| reduced.q.relative_error(&reference.q)),
+            err_force: reduced.force_error(reference),
+            err_vm: reduced.von_mises_error(reference),
+        };
+        results.push(CaseResult {
+            case: case.clone(),
+            row,
+            reduced,
+        });
+    }
+    Ok(results)
+}
+
+/// An error and its causes on one line: "case craig-bampton with modes =
+/// 1: the interface DOFs ... leave a mechanism".
+fn causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let next = s.to_string();
+        if !text.contains(&next) {
+            text = format!("{text}: {next}");
+        }
+        source = s.source();
+    }
+    text
+}
+
+/// Refuses a study whose MBS has nothing that excites it: only the track
+/// excites the harmonic MBS (report eq. 11), through connections to it
+/// with a vertical component.
+fn check_excitation(file: &ModelFile) -> Result<(), StudyError> {
+    use crate::mbs::Endpoint;
+    let to_track = file
+        .connections
+        .iter()
+        .any(|c| matches!(c.a, Endpoint::Track { .. }) || matches!(c.b, Endpoint::Track { .. }));
+    let why = match &file.track {
+        None => Some("there is no [track] table, the only excitation of the study"),
+        Some(t) if t.amplitude == 0.0 => Some("the track's amplitude is 0"),
+        Some(_) if !to_track => Some("no [[connection]] goes to the track (to = \"track\")"),
+        Some(_) => None,
+    };
+    match why {
+        Some(why) => Err(no_excitation(file, why)),
+        None => Ok(()),
+    }
+}
+
+fn no_excitation(file: &ModelFile, why: &str) -> StudyError {
+    StudyError::NoExcitation {
+        path: file.path.display().to_string(),
+        why: why.to_string(),
+    }
 }
 
 /// The reduction of one case, with the file's interface, support and (for

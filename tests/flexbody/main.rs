@@ -12,6 +12,7 @@ mod exchange;
 mod export;
 mod exudyn;
 mod file_kinds;
+mod guidance;
 mod interfaces;
 mod memory;
 mod section_forces;

@@ -116,6 +116,62 @@ impl AnyBody {
             AnyBody::Sid(s) => sid_summary(s),
         }
     }
+
+    /// The same summary as a JSON document (`flexbody inspect --json`):
+    /// `format` ("reduced-body" or "sid"), `r`, `mass_kg` (null where the
+    /// basis holds no rigid translation), `interface_nodes`,
+    /// `frequencies_hz` (null where they cannot be computed, with
+    /// `frequency_error`); a reduced body adds `method`, `dofs` and
+    /// `interface_dofs`, a SID `center_of_mass_m`.
+    pub fn summary_json(&self) -> serde_json::Value {
+        let (frequencies, error) = match self {
+            AnyBody::Reduced(b) => split(b.frequencies_hz()),
+            AnyBody::Sid(s) => split(s.frequencies_hz()),
+        };
+        let mut doc = match self {
+            AnyBody::Reduced(body) => {
+                let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
+                serde_json::json!({
+                    "format": "reduced-body",
+                    "method": body.method.name(),
+                    "r": body.r(),
+                    "dofs": body.dof_map.len(),
+                    "mass_kg": body_mass(body),
+                    "interface_nodes": nodes,
+                    "interface_dofs": body.interface.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+                })
+            }
+            AnyBody::Sid(sid) => serde_json::json!({
+                "format": "sid",
+                "r": sid.nq(),
+                "mass_kg": sid.refmod.mass,
+                "center_of_mass_m": sid.center_of_mass(),
+                "interface_nodes": sid.nodes.iter().map(|n| n.id).collect::<Vec<_>>(),
+            }),
+        };
+        doc["frequencies_hz"] = serde_json::json!(frequencies);
+        if let Some(e) = error {
+            doc["frequency_error"] = serde_json::json!(e);
+        }
+        doc
+    }
+}
+
+/// The frequencies, or `None` and why not.
+fn split<E: std::fmt::Display>(f: Result<Vec<f64>, E>) -> (Option<Vec<f64>>, Option<String>) {
+    match f {
+        Ok(f) => (Some(f), None),
+        Err(e) => (None, Some(e.to_string())),
+    }
+}
+
+/// The body's mass along the rigid translations its basis holds (the
+/// largest of them), if it holds any.
+fn body_mass(body: &ReducedBody) -> Option<f64> {
+    [DofKind::Ux, DofKind::Uy, DofKind::Uz]
+        .into_iter()
+        .filter_map(|k| translation_mass(body, k))
+        .reduce(f64::max)
 }
 
 /// Reads a reduced body from `path`, recognising the format: a folder (or
@@ -196,11 +252,7 @@ pub fn summary(body: &ReducedBody) -> String {
     let _ = writeln!(s, "method: {}", body.method);
     let _ = writeln!(s, "r: {}", body.r());
     let _ = writeln!(s, "DOFs of the full model: {}", body.dof_map.len());
-    let masses: Vec<f64> = [DofKind::Ux, DofKind::Uy, DofKind::Uz]
-        .into_iter()
-        .filter_map(|k| translation_mass(body, k))
-        .collect();
-    match masses.iter().copied().reduce(f64::max) {
+    match body_mass(body) {
         Some(m) => {
             let _ = writeln!(s, "mass: {m:.6e} kg");
         }

@@ -38,6 +38,7 @@
 
 mod build;
 mod cards;
+mod catalogue;
 mod keywords;
 mod known;
 mod properties;
@@ -45,6 +46,7 @@ mod properties;
 mod tests;
 mod unknown;
 
+pub use catalogue::{Catalogue, MaterialEntry, SectionEntry};
 pub use unknown::{DeckOptions, UnknownKeyword, UnknownKeywords};
 
 use crate::InputError;
@@ -60,6 +62,8 @@ pub struct Deck {
     pub model: flexbody_fem::Model,
     /// Element sets (ELSET name -> element ids), upper-case names.
     pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// Materials and sections by name.
+    pub catalogue: Catalogue,
     /// Keywords that were ignored, with the line of first use: `"*STEP
     /// (line 40)"`; also ignored parameters and ignored fixed DOFs.
     pub warnings: Vec<String>,
@@ -84,11 +88,13 @@ pub fn parse_deck(path: &Path, text: &str, options: &DeckOptions) -> Result<Deck
     let mut reader = keywords::Reader::new(&files, *options);
     reader.read(&cards)?;
     let unknown = std::mem::take(&mut reader.unknown);
+    let catalogue = Catalogue::of(&reader);
     let built = build::build(reader)?;
     Ok(Deck {
         path: path.to_path_buf(),
         model: built.model,
         element_sets: built.element_sets,
+        catalogue,
         warnings: built.warnings,
         unknown,
     })
