@@ -255,6 +255,7 @@ fn main() -> ExitCode {
     let result = run(cli, &*progress);
     // The terminal display is cleared before an error is printed.
     drop(progress);
+    stage_log::finish();
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -182,11 +182,24 @@ impl Lines {
 /// The log lines of this run, where there are any, for [`step`].
 static LINES: std::sync::OnceLock<Lines> = std::sync::OnceLock::new();
 
+/// The spinner of this run on a terminal, for [`step`].
+static SPINNER: std::sync::OnceLock<indicatif::ProgressBar> = std::sync::OnceLock::new();
+
+/// Clears the spinner, if there is one, before the command's last words.
+pub fn finish() {
+    if let Some(bar) = SPINNER.get() {
+        bar.finish_and_clear();
+    }
+}
+
 /// A stage of the command itself (not the linear algebra), e.g. where a
-/// reduction ends and its output begins, for the log.
+/// reduction ends and its output begins, for the log or the spinner.
 pub fn step(line: &str) {
     if let Some(lines) = LINES.get() {
         lines.write(line);
+    }
+    if let Some(bar) = SPINNER.get() {
+        bar.set_message(line.to_string());
     }
 }
 
@@ -243,6 +256,7 @@ pub fn install(mode: Mode, start: std::time::Instant) -> Arc<dyn Progress> {
             let bar = indicatif::ProgressBar::new_spinner()
                 .with_finish(indicatif::ProgressFinish::AndClear);
             bar.enable_steady_tick(std::time::Duration::from_millis(120));
+            let _ = SPINNER.set(bar.clone());
             Arc::new(Spinner(bar, FactorClock::default()))
         }
         Mode::Normal => log(false),
