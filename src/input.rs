@@ -26,8 +26,11 @@ pub struct Component {
     pub element_sets: BTreeMap<String, Vec<usize>>,
     /// Materials and sections of a deck.
     pub catalogue: Catalogue,
-    /// Ignored keywords of a deck, for the user to see.
+    /// What a deck ignored that may matter, for the user to see.
     pub warnings: Vec<String>,
+    /// Keywords a deck skipped as they do not change K, M or D
+    /// (`"*STEP (line 40)"`), for one note.
+    pub skipped: Vec<String>,
     /// Unknown keywords of a deck (also one a model file names) that were
     /// skipped under [`DeckOptions::allow_unknown`]; show their
     /// [`UnknownKeywords::summary`].
@@ -107,6 +110,7 @@ pub fn load_with(
                 element_sets: BTreeMap::new(),
                 catalogue: Catalogue::default(),
                 warnings: vec![],
+                skipped: vec![],
                 timing: timing(),
             })
         }
@@ -120,6 +124,7 @@ pub fn load_with(
                 element_sets: deck.element_sets,
                 catalogue: deck.catalogue,
                 warnings: deck.warnings,
+                skipped: deck.skipped,
                 unknown_keywords: deck.unknown,
                 timing: timing(),
             })
@@ -153,6 +158,7 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
         element_sets: BTreeMap::new(),
         catalogue: Catalogue::default(),
         warnings: vec![],
+        skipped: vec![],
         unknown_keywords: UnknownKeywords::default(),
         timing: (seconds, 0.0),
     }

@@ -397,6 +397,13 @@ fn load(
 ) -> Result<input::Component> {
     takes.check(model)?;
     let c = input::load_with(model, &matrices.files(), &deck)?;
+    if !c.skipped.is_empty() {
+        eprintln!(
+            "note: {}: skipped, as they do not change the linear K, M or D: {}",
+            model.display(),
+            c.skipped.join(", ")
+        );
+    }
     for w in &c.warnings {
         eprintln!("warning: {}: ignored {w}", model.display());
     }

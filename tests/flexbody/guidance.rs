@@ -450,3 +450,32 @@ fn the_test_command_ends_with_one_summary_over_all_test_groups() {
         )
     );
 }
+
+#[test]
+fn routine_skipped_keywords_take_one_line_so_that_warnings_stand_out() {
+    let deck = super::support::hex_beam_deck();
+    let o = run_ok(&["modes", deck.to_str().unwrap(), "--count", "2", "--quiet"]);
+    let err = stderr(&o);
+    // *STEP, *FREQUENCY and *END STEP: one note, no warning.
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].starts_with("note: "), "{err}");
+    for keyword in [
+        "*STEP (line 45)",
+        "*FREQUENCY (line 46)",
+        "*END STEP (line 48)",
+    ] {
+        assert!(lines[0].contains(keyword), "{keyword} in {err}");
+    }
+    // A misspelt keyword is no note but an error naming the nearest one.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(&deck)
+        .unwrap()
+        .replace("*STEP\n*FREQUENCY\n", "*STEP\n*FREQENCY\n");
+    let bad = dir.path().join("bad.inp");
+    std::fs::write(&bad, text).unwrap();
+    fails_with(
+        &["modes", bad.to_str().unwrap()],
+        &["bad.inp:46", "*FREQENCY", "*FREQUENCY"],
+    );
+}

@@ -100,6 +100,9 @@ pub(super) struct Reader<'a> {
     /// Fixed DOFs with their `*BOUNDARY` data line.
     pub fixed: Vec<(Dof, Loc)>,
     pub warnings: Vec<String>,
+    /// Keywords skipped because they do not change K, M or D, each with
+    /// the line of its first use: `"*STEP (line 40)"`.
+    pub skipped: Vec<String>,
     /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
     pub surfaces: BTreeMap<String, Vec<NodeId>>,
     pub couplings: Vec<DeckCoupling>,
@@ -128,6 +131,7 @@ impl<'a> Reader<'a> {
             sections: Vec::new(),
             fixed: Vec::new(),
             warnings: Vec::new(),
+            skipped: Vec::new(),
             surfaces: BTreeMap::new(),
             couplings: Vec::new(),
             unknown: UnknownKeywords {
@@ -212,14 +216,16 @@ impl<'a> Reader<'a> {
         ))
     }
 
-    /// Records `*KEY (line n)` the first time a keyword is skipped.
+    /// Records `*KEY (line n)` the first time a keyword is skipped: among
+    /// the routine skips without a `note`, else among the warnings.
     pub(super) fn warn_once(&mut self, card: &Card, note: &str) {
         if self.warned.insert(card.keyword.clone()) {
-            self.warnings.push(format!(
-                "{} ({}){note}",
-                card.display,
-                self.files.describe(card.loc)
-            ));
+            let line = format!("{} ({}){note}", card.display, self.files.describe(card.loc));
+            if note.is_empty() {
+                self.skipped.push(line);
+            } else {
+                self.warnings.push(line);
+            }
         }
     }
 

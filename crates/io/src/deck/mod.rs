@@ -25,7 +25,7 @@
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
 //! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces are skipped with a warning |
 //! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning |
-//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped with a warning: they do not change K or M of the linear model |
+//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K or M of the linear model |
 //! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*KINEMATIC COUPLING`, `*DISTRIBUTING COUPLING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
@@ -64,9 +64,12 @@ pub struct Deck {
     pub element_sets: BTreeMap<String, Vec<usize>>,
     /// Materials and sections by name.
     pub catalogue: Catalogue,
-    /// Keywords that were ignored, with the line of first use: `"*STEP
-    /// (line 40)"`; also ignored parameters and ignored fixed DOFs.
+    /// What was ignored and may matter: ignored parameters, element-based
+    /// surfaces, fixed DOFs no element has.
     pub warnings: Vec<String>,
+    /// Keywords skipped because they do not change the linear K, M or D,
+    /// with the line of first use: `"*STEP (line 40)"`.
+    pub skipped: Vec<String>,
     /// Unknown keywords skipped (only under
     /// [`DeckOptions::allow_unknown`]; otherwise they are errors).
     pub unknown: UnknownKeywords,
@@ -89,6 +92,7 @@ pub fn parse_deck(path: &Path, text: &str, options: &DeckOptions) -> Result<Deck
     reader.read(&cards)?;
     let unknown = std::mem::take(&mut reader.unknown);
     let catalogue = Catalogue::of(&reader);
+    let skipped = std::mem::take(&mut reader.skipped);
     let built = build::build(reader)?;
     Ok(Deck {
         path: path.to_path_buf(),
@@ -96,6 +100,7 @@ pub fn parse_deck(path: &Path, text: &str, options: &DeckOptions) -> Result<Deck
         element_sets: built.element_sets,
         catalogue,
         warnings: built.warnings,
+        skipped,
         unknown,
     })
 }

@@ -32,19 +32,22 @@ fn c3d8_bricks_with_sets_and_boundary() {
     assert_eq!(fixed, expected);
     assert_eq!(model.dof_map().len(), 12 * 3 - 12);
     assert_eq!(
-        deck.warnings,
+        deck.skipped,
         vec![
             "*HEADING (line 1)".to_string(),
             format!("*STEP (line {})", line_of(BRICKS, "*STEP")),
             format!("*FREQUENCY (line {})", line_of(BRICKS, "*FREQUENCY")),
             format!("*NODE FILE (line {})", line_of(BRICKS, "*NODE FILE")),
             format!("*END STEP (line {})", line_of(BRICKS, "*END STEP")),
-            format!(
-                "*BOUNDARY (line {}): 12 fixed DOF(s) ignored because no element gives the node \
-                 that DOF (first: node 1 rx; solid elements have no rotations)",
-                line_of(BRICKS, "BASE, 1, 6")
-            ),
         ]
+    );
+    assert_eq!(
+        deck.warnings,
+        vec![format!(
+            "*BOUNDARY (line {}): 12 fixed DOF(s) ignored because no element gives the node \
+             that DOF (first: node 1 rx; solid elements have no rotations)",
+            line_of(BRICKS, "BASE, 1, 6")
+        )]
     );
 }
 
