@@ -454,7 +454,7 @@ fn run_reduce(
         Some(given) => c.interface(Some(given))?,
         None => match c.default_interface() {
             Some(default) => {
-                eprintln!("interface: {}; --interface names another", default.source);
+                eprintln!("note: interface: {}; --interface names another", default.source);
                 default.dofs
             }
             None if method != Method::Free => anyhow::bail!(
