@@ -22,7 +22,8 @@ pub struct Component {
     pub model: Option<Model>,
     /// The model file, when the input was one (interface, MBS, study).
     pub file: Option<ModelFile>,
-    /// Ignored keywords of a deck, for the user to see.
+    /// Warnings for the user, each naming the deck it is about (the input
+    /// deck or a model file's `mesh`): `part.inp: ignored *STEP (line 40)`.
     pub warnings: Vec<String>,
     /// Unknown keywords of a deck (also one a model file names) that were
     /// skipped under [`DeckOptions::allow_unknown`]; show their
@@ -99,8 +100,8 @@ pub fn load_with(
                 sub: assemble(&file.model)?,
                 model: Some(file.model.clone()),
                 unknown_keywords: file.unknown_keywords.clone(),
+                warnings: file.warnings.clone(),
                 file: Some(file),
-                warnings: vec![],
                 timing: timing(),
             })
         }
@@ -111,7 +112,11 @@ pub fn load_with(
                 sub: assemble(&deck.model)?,
                 model: Some(deck.model),
                 file: None,
-                warnings: deck.warnings,
+                warnings: deck
+                    .warnings
+                    .iter()
+                    .map(|w| format!("{}: ignored {w}", path.display()))
+                    .collect(),
                 unknown_keywords: deck.unknown,
                 timing: timing(),
             })

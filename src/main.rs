@@ -330,7 +330,7 @@ fn run_study(
     });
     Takes::STUDY.check(model)?;
     let file = scenario::read_model_file_with(model, &deck)?;
-    warn_unknown(&file.unknown_keywords);
+    warn_deck(&file.warnings, &file.unknown_keywords);
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
@@ -363,15 +363,16 @@ fn load(
 ) -> Result<input::Component> {
     takes.check(model)?;
     let c = input::load_with(model, &matrices.files(), &deck)?;
-    for w in &c.warnings {
-        eprintln!("warning: {}: ignored {w}", model.display());
-    }
-    warn_unknown(&c.unknown_keywords);
+    warn_deck(&c.warnings, &c.unknown_keywords);
     Ok(c)
 }
 
-/// The one warning listing the deck keywords skipped by `--allow-unknown`.
-fn warn_unknown(unknown: &UnknownKeywords) {
+/// A deck's warnings (each naming its deck), then the one warning listing
+/// the deck keywords skipped by `--allow-unknown`.
+fn warn_deck(warnings: &[String], unknown: &UnknownKeywords) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(summary) = unknown.summary() {
         eprintln!("warning: {summary}");
     }
@@ -592,7 +593,7 @@ fn vehicle(
     progress: &dyn Progress,
 ) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read_with(model, &deck)?;
-    warn_unknown(&v.file.unknown_keywords);
+    warn_deck(&v.file.warnings, &v.file.unknown_keywords);
     let folder = OutputFolder::make(out)?;
     Ok((
         if full {

@@ -70,6 +70,9 @@ pub struct ModelFile {
     /// Unknown keywords the `mesh` deck skipped (only when read with
     /// [`DeckOptions::allow_unknown`]); show [`UnknownKeywords::summary`].
     pub unknown_keywords: UnknownKeywords,
+    /// The `mesh` deck's warnings for the user, each naming the deck
+    /// (`part.inp: ignored *STEP (line 40)`).
+    pub warnings: Vec<String>,
 }
 
 /// Where the flexible body of a simulation comes from.
@@ -175,6 +178,7 @@ pub fn parse_model_file_with(
         title,
         model,
         unknown,
+        warnings,
     } = parse_model_toml(src, options)?;
     let rigid = mbs::rigid_bodies(src, &raw)?;
     mbs::check_track(src, &raw)?;
@@ -200,5 +204,6 @@ pub fn parse_model_file_with(
         simulation,
         frf,
         unknown_keywords: unknown,
+        warnings,
     })
 }

@@ -14,6 +14,7 @@ mod exudyn;
 mod file_kinds;
 mod interfaces;
 mod memory;
+mod model_files;
 mod section_forces;
 mod sid;
 mod study;

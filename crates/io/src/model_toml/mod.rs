@@ -25,6 +25,9 @@ pub struct ModelToml {
     /// Unknown keywords the `mesh` deck skipped (only under
     /// [`DeckOptions::allow_unknown`]).
     pub unknown: UnknownKeywords,
+    /// The `mesh` deck's warnings (keywords and fixed DOFs it ignored),
+    /// each naming the deck: `part.inp: ignored *STEP (line 40)`.
+    pub warnings: Vec<String>,
 }
 
 /// Reads the model sections of a TOML text and builds the model; errors
@@ -34,10 +37,11 @@ pub fn parse_model_toml(
     options: &DeckOptions,
 ) -> Result<ModelToml, InputError> {
     let raw: raw::RawModel = src.parse()?;
-    let (model, unknown) = build::build(src, &raw, options)?;
+    let built = build::build(src, &raw, options)?;
     Ok(ModelToml {
         title: raw.title,
-        model,
-        unknown,
+        model: built.model,
+        unknown: built.unknown,
+        warnings: built.warnings,
     })
 }
