@@ -26,11 +26,12 @@ pub struct Component {
     pub element_sets: BTreeMap<String, Vec<usize>>,
     /// Materials and sections of a deck.
     pub catalogue: Catalogue,
-    /// What a deck ignored that may matter, for the user to see.
+    /// Warnings for the user, each naming the deck it is about (the input
+    /// deck or a model file's `mesh`): `part.inp: ignored parameter ...`.
     pub warnings: Vec<String>,
-    /// Keywords a deck skipped as they do not change K, M or D
-    /// (`"*STEP (line 40)"`), for one note.
-    pub skipped: Vec<String>,
+    /// Notes for the user: the routine keywords a deck skipped, one line
+    /// per deck ([`crate::io::deck::Deck::skipped_note`]).
+    pub notes: Vec<String>,
     /// Unknown keywords of a deck (also one a model file names) that were
     /// skipped under [`DeckOptions::allow_unknown`]; show their
     /// [`UnknownKeywords::summary`].
@@ -106,25 +107,26 @@ pub fn load_with(
                 sub: assemble(&file.model)?,
                 model: Some(file.model.clone()),
                 unknown_keywords: file.unknown_keywords.clone(),
+                warnings: file.warnings.clone(),
+                notes: file.notes.clone(),
                 file: Some(file),
                 element_sets: BTreeMap::new(),
                 catalogue: Catalogue::default(),
-                warnings: vec![],
-                skipped: vec![],
                 timing: timing(),
             })
         }
         "inp" => {
             let deck = crate::io::deck::read_deck(path, options)?;
+            let (warnings, notes) = (deck.warning_lines(), deck.skipped_note());
             Ok(Component {
                 path: path.to_path_buf(),
                 sub: assemble(&deck.model)?,
                 model: Some(deck.model),
                 file: None,
+                warnings,
+                notes: notes.into_iter().collect(),
                 element_sets: deck.element_sets,
                 catalogue: deck.catalogue,
-                warnings: deck.warnings,
-                skipped: deck.skipped,
                 unknown_keywords: deck.unknown,
                 timing: timing(),
             })
@@ -158,7 +160,7 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
         element_sets: BTreeMap::new(),
         catalogue: Catalogue::default(),
         warnings: vec![],
-        skipped: vec![],
+        notes: vec![],
         unknown_keywords: UnknownKeywords::default(),
         timing: (seconds, 0.0),
     }

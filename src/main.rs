@@ -358,7 +358,7 @@ fn run_study(
     });
     Takes::STUDY.check(model)?;
     let file = scenario::read_model_file_with(model, &deck)?;
-    warn_unknown(&file.unknown_keywords);
+    warn_deck(&file.notes, &file.warnings, &file.unknown_keywords);
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
@@ -397,22 +397,19 @@ fn load(
 ) -> Result<input::Component> {
     takes.check(model)?;
     let c = input::load_with(model, &matrices.files(), &deck)?;
-    if !c.skipped.is_empty() {
-        eprintln!(
-            "note: {}: skipped, as they do not change the linear K, M or D: {}",
-            model.display(),
-            c.skipped.join(", ")
-        );
-    }
-    for w in &c.warnings {
-        eprintln!("warning: {}: ignored {w}", model.display());
-    }
-    warn_unknown(&c.unknown_keywords);
+    warn_deck(&c.notes, &c.warnings, &c.unknown_keywords);
     Ok(c)
 }
 
-/// The one warning listing the deck keywords skipped by `--allow-unknown`.
-fn warn_unknown(unknown: &UnknownKeywords) {
+/// A deck's notes and warnings (each naming its deck), then the one
+/// warning listing the deck keywords skipped by `--allow-unknown`.
+fn warn_deck(notes: &[String], warnings: &[String], unknown: &UnknownKeywords) {
+    for n in notes {
+        eprintln!("note: {n}");
+    }
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(summary) = unknown.summary() {
         eprintln!("warning: {summary}");
     }
@@ -454,7 +451,10 @@ fn run_reduce(
         Some(given) => c.interface(Some(given))?,
         None => match c.default_interface() {
             Some(default) => {
-                eprintln!("note: interface: {}; --interface names another", default.source);
+                eprintln!(
+                    "note: interface: {}; --interface names another",
+                    default.source
+                );
                 default.dofs
             }
             None if method != Method::Free => anyhow::bail!(
@@ -678,7 +678,7 @@ fn vehicle(
     progress: &dyn Progress,
 ) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read_with(model, &deck)?;
-    warn_unknown(&v.file.unknown_keywords);
+    warn_deck(&v.file.notes, &v.file.warnings, &v.file.unknown_keywords);
     let folder = OutputFolder::make(out)?;
     Ok((
         if full {

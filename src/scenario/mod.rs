@@ -70,6 +70,10 @@ pub struct ModelFile {
     /// Unknown keywords the `mesh` deck skipped (only when read with
     /// [`DeckOptions::allow_unknown`]); show [`UnknownKeywords::summary`].
     pub unknown_keywords: UnknownKeywords,
+    /// The `mesh` deck's warnings for the user, each naming the deck.
+    pub warnings: Vec<String>,
+    /// The `mesh` deck's note on the routine keywords it skipped.
+    pub notes: Vec<String>,
 }
 
 /// Where the flexible body of a simulation comes from.
@@ -175,6 +179,8 @@ pub fn parse_model_file_with(
         title,
         model,
         unknown,
+        warnings,
+        notes,
     } = parse_model_toml(src, options)?;
     let rigid = mbs::rigid_bodies(src, &raw)?;
     mbs::check_track(src, &raw)?;
@@ -200,5 +206,7 @@ pub fn parse_model_file_with(
         simulation,
         frf,
         unknown_keywords: unknown,
+        warnings,
+        notes,
     })
 }

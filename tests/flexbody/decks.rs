@@ -318,7 +318,7 @@ fn modal_stresses_are_the_nodal_stresses_of_each_basis_column() {
 }
 
 /// The hex beam deck with an interface point coupled to its x = 0 face.
-fn coupled_deck(kind: &str) -> String {
+pub(crate) fn coupled_deck(kind: &str) -> String {
     let text = std::fs::read_to_string(fixture("hex_beam", "inp")).unwrap();
     let step = text.find("*STEP").unwrap();
     format!(

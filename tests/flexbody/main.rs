@@ -15,6 +15,7 @@ mod file_kinds;
 mod guidance;
 mod interfaces;
 mod memory;
+mod model_files;
 mod section_forces;
 mod sid;
 mod study;

@@ -472,6 +472,129 @@ mod tests {
         }
     }
 
+    /// `u^T M v`.
+    fn mass_product(m: &flexbody_linalg::SparseMat, u: &[f64], v: &[f64]) -> f64 {
+        let mv = m * Mat::from_fn(v.len(), 1, |i, _| v[i]);
+        u.iter().enumerate().map(|(i, x)| x * mv[(i, 0)]).sum()
+    }
+
+    /// A lumped mass with inertia on the reference node of a rigid spider
+    /// (free-free): it adds to the rigid-body mass and to the rotary
+    /// inertia about axes through the node, as a rigid body would.
+    #[test]
+    fn a_point_mass_on_a_reference_node_adds_to_the_rigid_body_mass() {
+        let plain = bar(3, false);
+        let (m, inertia) = (5.0, [0.2, 0.3, 0.4, 0.0, 0.0, 0.0]);
+        let mut elements = plain.elements().to_vec();
+        elements.push(
+            crate::element::PointMass {
+                id: 99,
+                node: 1000,
+                mass: m,
+                inertia,
+            }
+            .into(),
+        );
+        let face = face(&plain);
+        let refused = Model::of(plain.nodes().to_vec(), elements.clone()).build();
+        assert!(
+            matches!(refused, Err(FemError::MassWithoutDof { node: 1000 })),
+            "without the coupling nothing carries the mass: {refused:?}"
+        );
+        let model = Model::of(plain.nodes().to_vec(), elements)
+            .couplings(vec![Coupling {
+                name: "face".into(),
+                kind: CouplingKind::Rigid,
+                point: 1000,
+                nodes: face,
+                weights: None,
+            }])
+            .build()
+            .unwrap();
+        let mass = assemble(&model).unwrap().mass;
+        // The bar: 0.3 x 0.1 x 0.1 m of steel, the point at (0, 0.05, 0.05).
+        let (rho_v, l, b) = (7850.0 * 0.3 * 0.1 * 0.1, 0.3, 0.1);
+        for (motion, want) in [
+            ([1.0, 0.0, 0.0, 0.0, 0.0, 0.0], rho_v + m),
+            ([0.0, 0.0, 1.0, 0.0, 0.0, 0.0], rho_v + m),
+            (
+                [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+                rho_v * (b * b + b * b) / 12.0 + inertia[0],
+            ),
+            (
+                [0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                rho_v * (l * l / 3.0 + b * b / 12.0) + inertia[1],
+            ),
+        ] {
+            let u = rigid(&model, motion);
+            let got = mass_product(&mass, &u, &u);
+            assert!(
+                (got - want).abs() < 1e-12 * want,
+                "{motion:?}: {got} vs {want}"
+            );
+        }
+    }
+
+    /// A bar held rigidly by a point at its centre, a mass `m` on the point
+    /// and a spring `k` from the point's uz to ground: one elastic mode,
+    /// `omega^2 = k / (m_bar + m)`, and five rigid-body modes.
+    #[test]
+    fn a_spring_on_a_massed_reference_node_has_the_analytic_frequency() {
+        let block = BrickBlock {
+            cells: [3, 1, 1],
+            origin: [0.0; 3],
+            size: [0.3, 0.1, 0.1],
+        };
+        let mut nodes = block.nodes();
+        let members: Vec<NodeId> = nodes.iter().map(|n| n.id).collect();
+        nodes.push(Node {
+            id: 1000,
+            coords: [0.15, 0.05, 0.05],
+        });
+        let material = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let (m, k) = (40.0, 3.0e5);
+        let mut elements = block.elements(&material);
+        elements.push(
+            crate::element::PointMass {
+                id: 98,
+                node: 1000,
+                mass: m,
+                inertia: [0.0; 6],
+            }
+            .into(),
+        );
+        elements.push(
+            crate::element::Spring {
+                id: 99,
+                first: Dof::new(1000, DofKind::Uz),
+                second: None,
+                stiffness: k,
+            }
+            .into(),
+        );
+        let model = Model::of(nodes, elements)
+            .couplings(vec![Coupling {
+                name: "all".into(),
+                kind: CouplingKind::Rigid,
+                point: 1000,
+                nodes: members,
+                weights: None,
+            }])
+            .build()
+            .unwrap();
+        assert_eq!(model.dof_map().len(), 6, "the point's DOFs only");
+        let s = assemble(&model).unwrap();
+        let eig =
+            generalized_symmetric(s.stiffness.to_dense().as_ref(), s.mass.to_dense().as_ref())
+                .unwrap();
+        let want = k / (7850.0 * 0.3 * 0.1 * 0.1 + m);
+        let top = eig.values[5];
+        assert!((top - want).abs() < 1e-10 * want, "{top} vs {want}");
+        for v in &eig.values[..5] {
+            assert!(v.abs() < 1e-9 * want, "a rigid-body mode: {v}");
+        }
+    }
+
     #[test]
     fn bad_couplings_are_named() {
         let check = |c: Coupling, needle: &str| {

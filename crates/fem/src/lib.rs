@@ -49,7 +49,7 @@ pub enum FemError {
         rule: &'static str,
         value: f64,
     },
-    #[error("point mass on node {node}: no element gives that node a DOF to carry it")]
+    #[error("point mass on node {node}: no element or coupling gives that node a DOF to carry it")]
     MassWithoutDof { node: NodeId },
     #[error("{what}: node {node} has no DOF {dof}")]
     UnknownDof {

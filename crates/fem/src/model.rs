@@ -85,6 +85,7 @@ pub struct ModelParts {
     node_sets: BTreeMap<String, Vec<NodeId>>,
     fixed: Vec<Dof>,
     rayleigh: Option<Rayleigh>,
+    couplings: Vec<Coupling>,
 }
 
 impl ModelParts {
@@ -106,14 +107,23 @@ impl ModelParts {
         }
     }
 
-    /// The checked model ([`Model::new`]).
+    /// Interface points coupled to node sets ([`Model::with_couplings`]).
+    /// Given here, the couplings' reference nodes have their 6 DOFs from
+    /// the start, so elements that only load DOFs (point masses) may sit
+    /// on them.
+    pub fn couplings(self, couplings: Vec<Coupling>) -> Self {
+        Self { couplings, ..self }
+    }
+
+    /// The checked model ([`Model::new`], then the couplings).
     pub fn build(self) -> Result<Model, FemError> {
-        Model::new(
+        Model::assemble(
             self.nodes,
             self.elements,
             self.node_sets,
             self.fixed,
             self.rayleigh,
+            self.couplings,
         )
     }
 }
@@ -128,16 +138,29 @@ impl Model {
             node_sets: BTreeMap::new(),
             fixed: Vec::new(),
             rayleigh: None,
+            couplings: Vec::new(),
         }
     }
 
-    /// Builds and checks a model.
+    /// Builds and checks a model without couplings.
     pub fn new(
         nodes: Vec<Node>,
         elements: Vec<Element>,
         node_sets: BTreeMap<String, Vec<NodeId>>,
         fixed: Vec<Dof>,
         rayleigh: Option<Rayleigh>,
+    ) -> Result<Self, FemError> {
+        Self::assemble(nodes, elements, node_sets, fixed, rayleigh, Vec::new())
+    }
+
+    /// Builds and checks a model with its couplings, its DOF map built once.
+    fn assemble(
+        nodes: Vec<Node>,
+        elements: Vec<Element>,
+        node_sets: BTreeMap<String, Vec<NodeId>>,
+        fixed: Vec<Dof>,
+        rayleigh: Option<Rayleigh>,
+        couplings: Vec<Coupling>,
     ) -> Result<Self, FemError> {
         let mut node_index = id_map(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
@@ -185,7 +208,7 @@ impl Model {
             node_sets,
             fixed: fixed.into_iter().collect(),
             rayleigh,
-            couplings: Vec::new(),
+            couplings,
             constraints: Constraints::new(),
             dof_map: DofMap::default(),
         };
@@ -195,7 +218,9 @@ impl Model {
 
     /// The model with interface points coupled to node sets (RBE2/RBE3):
     /// each point gets 6 DOFs, and the dependent DOFs of the couplings leave
-    /// the DOF map (exact elimination).
+    /// the DOF map (exact elimination). A point mass on a reference node
+    /// that nothing else gives DOFs needs the couplings at construction
+    /// ([`ModelParts::couplings`]): [`Model::new`] refuses it before.
     pub fn with_couplings(mut self, couplings: Vec<Coupling>) -> Result<Self, FemError> {
         self.couplings = couplings;
         self.dof_map = self.build_dof_map()?;

@@ -1,6 +1,6 @@
 //! From the cards read to a checked [`Model`]: sets resolved, properties
 //! assigned to elements, fixed DOFs filtered, and every error of
-//! [`Model::new`] and [`Element::validate`] mapped to the deck line of the
+//! building the [`Model`] and of [`Element::validate`] mapped to the deck line of the
 //! element, node or boundary condition.
 
 use super::cards::{Files, Loc};
@@ -9,7 +9,7 @@ use super::properties::{spring_properties, RawSection, SectionData, SpringProper
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind, SectionValues};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
-use flexbody_fem::{Dof, Element, FemError, Material, Model, NodeId};
+use flexbody_fem::{Dof, DofKind, Element, FemError, Material, Model, NodeId};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -134,10 +134,11 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         elements.push(element);
     }
 
-    // Fixed DOFs: only those an element creates (CalculiX also ignores
-    // rotations fixed on nodes of solid elements).
+    // Fixed DOFs: only those an element or a coupling's reference node
+    // creates (CalculiX also ignores rotations fixed on nodes of solid
+    // elements).
     let fixed_nodes: IdSet<NodeId> = fixed.iter().map(|(d, _)| d.node).collect();
-    let active: IdSet<Dof> = elements
+    let mut active: IdSet<Dof> = elements
         .iter()
         .filter(|e| {
             !fixed_nodes.is_empty()
@@ -146,6 +147,11 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         })
         .flat_map(Element::dofs)
         .collect();
+    for c in &couplings {
+        if fixed_nodes.contains(&c.point) {
+            active.extend(DofKind::ALL.map(|k| Dof::new(c.point, k)));
+        }
+    }
     let mut kept = Vec::with_capacity(fixed.len());
     let mut dropped: Option<(Dof, Loc, usize)> = None;
     for (dof, loc) in &fixed {
@@ -182,21 +188,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         .map(|(k, v)| (k, unique(v.into_iter().map(|(e, _)| e))))
         .collect();
 
-    let model = Model::new(nodes, elements, node_sets, kept, None).map_err(|err| {
-        let loc = match &err {
-            FemError::UnknownNode { element, .. }
-            | FemError::ZeroLength { element }
-            | FemError::OrientationParallel { element, .. }
-            | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
-            FemError::MassWithoutDof { node } => raw
-                .iter()
-                .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
-                .map(|e| e.loc),
-            _ => None,
-        };
-        files.error_near(loc, err.to_string())
-    })?;
-    // Interface points of *COUPLING cards.
+    // Interface points of *COUPLING cards, given to the model at
+    // construction: a point mass may sit on a reference node.
     let mut coupled = Vec::new();
     let mut coupling_loc = HashMap::new();
     for c in couplings {
@@ -215,17 +208,26 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
             weights: None,
         });
     }
-    let model = if coupled.is_empty() {
-        model
-    } else {
-        model.with_couplings(coupled).map_err(|err| {
+    let model = Model::of(nodes, elements)
+        .node_sets(node_sets)
+        .fixed(kept)
+        .couplings(coupled)
+        .build()
+        .map_err(|err| {
             let loc = match &err {
+                FemError::UnknownNode { element, .. }
+                | FemError::ZeroLength { element }
+                | FemError::OrientationParallel { element, .. }
+                | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
+                FemError::MassWithoutDof { node } => raw
+                    .iter()
+                    .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
+                    .map(|e| e.loc),
                 FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
                 _ => None,
             };
             files.error_near(loc, err.to_string())
-        })?
-    };
+        })?;
     // Every element's geometry in parallel; the first bad one (in the
     // model's order) is the error.
     let bad = model

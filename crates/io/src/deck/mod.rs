@@ -23,8 +23,8 @@
 //! | `*BEAM SECTION, ELSET=, MATERIAL=, SECTION=` | RECT `a, b`; CIRC `r`; PIPE `r, t` (outer radius, wall); BOX `a, b, t1..t4` (equal walls only); second line n1 = local y, default `(0, 0, -1)`; a along local 1 (y), b along local 2 (z) |
 //! | `*MASS, ELSET=` | mass (kg) of MASS elements |
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
-//! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces are skipped with a warning |
-//! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning |
+//! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces are skipped with a warning; a MASS element or `*BOUNDARY` may sit on the reference node |
+//! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning; a coupling's reference node has all six |
 //! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K or M of the linear model |
 //! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*KINEMATIC COUPLING`, `*DISTRIBUTING COUPLING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
@@ -73,6 +73,30 @@ pub struct Deck {
     /// Unknown keywords skipped (only under
     /// [`DeckOptions::allow_unknown`]; otherwise they are errors).
     pub unknown: UnknownKeywords,
+}
+
+impl Deck {
+    /// The warnings for the user, each naming the deck:
+    /// `part.inp: ignored *BOUNDARY (line 36): 12 fixed DOF(s) ...`.
+    pub fn warning_lines(&self) -> Vec<String> {
+        self.warnings
+            .iter()
+            .map(|w| format!("{}: ignored {w}", self.path.display()))
+            .collect()
+    }
+
+    /// The one note listing the routine keywords skipped, if any:
+    /// `part.inp: skipped, as they do not change the linear K, M or D:
+    /// *STEP (line 40), *FREQUENCY (line 41)`.
+    pub fn skipped_note(&self) -> Option<String> {
+        (!self.skipped.is_empty()).then(|| {
+            format!(
+                "{}: skipped, as they do not change the linear K, M or D: {}",
+                self.path.display(),
+                self.skipped.join(", ")
+            )
+        })
+    }
 }
 
 /// Reads and checks a deck file.

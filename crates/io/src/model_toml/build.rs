@@ -1,42 +1,72 @@
 //! From the raw model sections to a checked [`Model`], one section at a
 //! time, in the order the sections depend on each other: materials and
-//! sections, nodes, beam lines, the deck's mesh, elements, node sets,
+//! sections, nodes, beam lines, the deck's model, elements, node sets,
 //! boundary conditions, couplings. Every error names the line.
+//!
+//! A `mesh` deck contributes its whole model: nodes, elements, node sets,
+//! fixed DOFs, couplings and damping, and its warnings. The file's own
+//! sections add to it; its `[damping]` replaces the deck's, nothing else
+//! is replaced or dropped.
 
-use super::raw::{BeamKind, RawElement, RawModel};
+mod beam_lines;
+
+use super::raw::{RawElement, RawModel};
 use crate::deck::{DeckOptions, UnknownKeywords};
 use crate::{InputError, TomlSource};
 use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
 use flexbody_fem::section::SectionConstants;
 use flexbody_fem::{
-    BeamProperties, BeamTheory, Coupling, Dof, Element, FemError, Material, Model, Node,
+    BeamProperties, BeamTheory, Coupling, Dof, Element, FemError, Material, Model, Node, Rayleigh,
 };
 use std::collections::{BTreeMap, HashMap, HashSet};
 use toml::Spanned;
 
-/// Checks the raw sections and assembles the model they describe, with the
-/// unknown keywords its deck skipped (`options.allow_unknown`).
+/// The checked model and what its deck left to tell the user.
+pub(crate) struct Built {
+    pub model: Model,
+    /// Unknown keywords the deck skipped (`options.allow_unknown`).
+    pub unknown: UnknownKeywords,
+    /// The deck's warnings, each naming the deck:
+    /// `part.inp: ignored *BOUNDARY (line 36): ...`.
+    pub warnings: Vec<String>,
+    /// The deck's note on the routine keywords it skipped.
+    pub notes: Vec<String>,
+}
+
+/// Checks the raw sections and assembles the model they describe.
 pub(crate) fn build(
     src: TomlSource<'_>,
     raw: &RawModel,
     options: &DeckOptions,
-) -> Result<(Model, UnknownKeywords), InputError> {
+) -> Result<Built, InputError> {
     let mut b = Builder::new(src, raw)?;
     for n in &raw.nodes {
         let (id, x, y, z) = *n.get_ref();
         b.add_node(id, [x, y, z], n.span().start)?;
     }
     b.beam_lines(raw)?;
-    let unknown = match &raw.mesh {
+    let (unknown, warnings, notes) = match &raw.mesh {
         Some(mesh) => b.deck_mesh(mesh, options)?,
-        None => UnknownKeywords::default(),
+        None => (UnknownKeywords::default(), Vec::new(), Vec::new()),
     };
-    let known: HashSet<u64> = b.nodes.iter().map(|n| n.id).collect();
+    // The file's coupling points are nodes from the start: elements (a
+    // point mass, a spring) may sit on them.
+    let known: HashSet<u64> = b
+        .nodes
+        .iter()
+        .map(|n| n.id)
+        .chain(raw.coupling.iter().map(|c| c.get_ref().point))
+        .collect();
     b.elements(raw, &known)?;
     b.node_sets(raw, &known)?;
     b.boundaries(raw, &known)?;
     let couplings = b.couplings(raw, &known)?;
-    Ok((b.finish(raw, couplings)?, unknown))
+    Ok(Built {
+        model: b.finish(raw, couplings)?,
+        unknown,
+        warnings,
+        notes,
+    })
 }
 
 /// The model as it grows, with the line each node and element came from.
@@ -45,6 +75,7 @@ struct Builder<'a> {
     materials: HashMap<String, Material>,
     sections: HashMap<String, SectionConstants>,
     nodes: Vec<Node>,
+    node_index: HashMap<u64, usize>,
     node_line: HashMap<u64, usize>,
     elements: Vec<Element>,
     element_line: HashMap<usize, usize>,
@@ -52,6 +83,10 @@ struct Builder<'a> {
     fixed: Vec<Dof>,
     /// Fixed DOFs of the deck, applied after the file's own.
     deck_fixed: Vec<Dof>,
+    /// Couplings of the deck, with the file's own.
+    deck_couplings: Vec<Coupling>,
+    /// Damping of the deck, unless the file has `[damping]`.
+    deck_damping: Option<Rayleigh>,
 }
 
 impl<'a> Builder<'a> {
@@ -100,12 +135,15 @@ impl<'a> Builder<'a> {
             materials,
             sections,
             nodes: Vec::new(),
+            node_index: HashMap::new(),
             node_line: HashMap::new(),
             elements: Vec::new(),
             element_line: HashMap::new(),
             sets: BTreeMap::new(),
             fixed: Vec::new(),
             deck_fixed: Vec::new(),
+            deck_couplings: Vec::new(),
+            deck_damping: None,
         })
     }
 
@@ -145,8 +183,14 @@ impl<'a> Builder<'a> {
                 format!("node {id} has a non-finite coordinate"),
             ));
         }
+        self.node_index.insert(id, self.nodes.len());
         self.nodes.push(Node { id, coords });
         Ok(())
+    }
+
+    /// The position of node `id`, if defined so far.
+    fn position(&self, id: u64) -> Option<[f64; 3]> {
+        self.node_index.get(&id).map(|&i| self.nodes[i].coords)
     }
 
     fn add_element(&mut self, e: Element, offset: usize) -> Result<(), InputError> {
@@ -163,65 +207,16 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    /// `[[beam_line]]`: equally spaced nodes and the beams between them.
-    fn beam_lines(&mut self, raw: &RawModel) -> Result<(), InputError> {
-        let mut next_element = 1;
-        for line in &raw.beam_line {
-            let b = line.get_ref();
-            let offset = line.span().start;
-            if b.elements == 0 {
-                return Err(self.src.at(line, "beam_line needs at least one element"));
-            }
-            let p = self.properties(&b.material, &b.section, b.theory, b.rotary_inertia)?;
-            if b.element == BeamKind::PlanarBeam && b.theory != BeamTheory::EulerBernoulli {
-                return Err(self.src.at(line, "planar-beam elements are Euler-Bernoulli; use element = \"beam\" for Timoshenko"));
-            }
-            let ids: Vec<u64> = (0..=b.elements as u64).map(|i| b.first_node + i).collect();
-            for (i, id) in ids.iter().enumerate() {
-                let t = i as f64 / b.elements as f64;
-                let c = [0, 1, 2].map(|k| b.from[k] + t * (b.to[k] - b.from[k]));
-                self.add_node(*id, c, offset)?;
-            }
-            let first = b.first_element.unwrap_or(next_element);
-            for i in 0..b.elements {
-                let id = first + i;
-                let nodes = [ids[i], ids[i + 1]];
-                let e = match b.element {
-                    BeamKind::PlanarBeam => Element::PlanarBeam(PlanarBeam {
-                        id,
-                        nodes,
-                        properties: p.clone(),
-                    }),
-                    BeamKind::Beam => Element::Beam(Beam {
-                        id,
-                        nodes,
-                        properties: p.clone(),
-                        orientation: b.orientation.ok_or_else(|| {
-                            self.src.at(
-                                line,
-                                "beam_line of 3D beams needs an orientation (local y direction)",
-                            )
-                        })?,
-                    }),
-                };
-                self.add_element(e, offset)?;
-            }
-            next_element = first + b.elements;
-            if let Some(set) = &b.set {
-                self.sets.entry(set.clone()).or_default().extend(ids);
-            }
-        }
-        Ok(())
-    }
-
-    /// `mesh = "deck.inp"`: the deck's nodes, elements, node sets and fixed
-    /// DOFs; the unknown keywords it skipped.
+    /// `mesh = "deck.inp"`: the deck's model, every part of it (nodes,
+    /// elements, node sets, fixed DOFs, couplings, damping); the unknown
+    /// keywords it skipped, its warnings and its note, each naming the deck.
     fn deck_mesh(
         &mut self,
         mesh: &Spanned<String>,
         options: &DeckOptions,
-    ) -> Result<UnknownKeywords, InputError> {
-        let deck = crate::deck::read_deck(&self.src.relative(mesh.get_ref()), options)?;
+    ) -> Result<(UnknownKeywords, Vec<String>, Vec<String>), InputError> {
+        let path = self.src.relative(mesh.get_ref());
+        let deck = crate::deck::read_deck(&path, options)?;
         let offset = mesh.span().start;
         for n in deck.model.nodes() {
             self.add_node(n.id, n.coords, offset)?;
@@ -236,7 +231,11 @@ impl<'a> Builder<'a> {
                 .extend(set.iter().copied());
         }
         self.deck_fixed = deck.model.fixed_dofs().copied().collect();
-        Ok(deck.unknown)
+        self.deck_couplings = deck.model.couplings().to_vec();
+        self.deck_damping = deck.model.rayleigh();
+        let notes = deck.skipped_note().into_iter().collect();
+        let warnings = deck.warning_lines();
+        Ok((deck.unknown, warnings, notes))
     }
 
     fn check_node(
@@ -455,15 +454,19 @@ impl<'a> Builder<'a> {
             .map(|(o, c)| (c.name.clone(), src.line(*o)))
             .collect();
         let element_line = self.element_line;
-        let model = Model::new(
-            self.nodes,
-            self.elements,
-            self.sets,
-            self.fixed,
-            raw.damping,
-        )
-        .and_then(|m| m.with_couplings(couplings.into_iter().map(|(_, c)| c).collect()))
-        .map_err(|e| {
+        let mut parts = Model::of(self.nodes, self.elements)
+            .node_sets(self.sets)
+            .fixed(self.fixed)
+            .couplings(
+                self.deck_couplings
+                    .into_iter()
+                    .chain(couplings.into_iter().map(|(_, c)| c))
+                    .collect(),
+            );
+        if let Some(damping) = raw.damping.or(self.deck_damping) {
+            parts = parts.rayleigh(damping);
+        }
+        let model = parts.build().map_err(|e| {
             let line = match &e {
                 FemError::ZeroLength { element }
                 | FemError::PlanarBeamNotAlongX { element }

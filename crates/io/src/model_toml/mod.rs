@@ -25,6 +25,12 @@ pub struct ModelToml {
     /// Unknown keywords the `mesh` deck skipped (only under
     /// [`DeckOptions::allow_unknown`]).
     pub unknown: UnknownKeywords,
+    /// The `mesh` deck's warnings (parameters and fixed DOFs it ignored),
+    /// each naming the deck.
+    pub warnings: Vec<String>,
+    /// The `mesh` deck's note on the routine keywords it skipped
+    /// (`*STEP`, outputs), naming the deck.
+    pub notes: Vec<String>,
 }
 
 /// Reads the model sections of a TOML text and builds the model; errors
@@ -34,10 +40,12 @@ pub fn parse_model_toml(
     options: &DeckOptions,
 ) -> Result<ModelToml, InputError> {
     let raw: raw::RawModel = src.parse()?;
-    let (model, unknown) = build::build(src, &raw, options)?;
+    let built = build::build(src, &raw, options)?;
     Ok(ModelToml {
         title: raw.title,
-        model,
-        unknown,
+        model: built.model,
+        unknown: built.unknown,
+        warnings: built.warnings,
+        notes: built.notes,
     })
 }

@@ -69,10 +69,28 @@ pub(crate) struct RawBeamLine {
     pub theory: BeamTheory,
     #[serde(default)]
     pub rotary_inertia: Option<bool>,
-    pub from: [f64; 3],
-    pub to: [f64; 3],
+    /// Start point (m); or the position of `start_node`.
+    #[serde(default)]
+    pub from: Option<[f64; 3]>,
+    /// End point (m); or the position of `end_node`.
+    #[serde(default)]
+    pub to: Option<[f64; 3]>,
+    /// An existing node the line starts at (a joint).
+    #[serde(default)]
+    pub start_node: Option<u64>,
+    /// An existing node the line ends at (a joint).
+    #[serde(default)]
+    pub end_node: Option<u64>,
     pub elements: usize,
-    pub first_node: u64,
+    /// Point `i` of the line is node `first_node + i` unless it is an
+    /// existing node; needed when the line makes a new node.
+    #[serde(default)]
+    pub first_node: Option<u64>,
+    /// Whether a point of the line that coincides with an existing node is
+    /// that node (default); `false` keeps coincident nodes apart (a hinge
+    /// of springs).
+    #[serde(default = "default_share")]
+    pub share_nodes: bool,
     #[serde(default)]
     pub first_element: Option<usize>,
     pub material: Spanned<String>,
@@ -81,6 +99,10 @@ pub(crate) struct RawBeamLine {
     pub orientation: Option<[f64; 3]>,
     #[serde(default)]
     pub set: Option<String>,
+}
+
+fn default_share() -> bool {
+    true
 }
 
 /// One DOF as a TOML table: `{ node = 7, dof = "uz" }`.
