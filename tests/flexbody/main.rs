@@ -14,6 +14,8 @@ mod exudyn;
 mod file_kinds;
 mod interfaces;
 mod memory;
+mod plots;
+mod report_html;
 mod section_forces;
 mod sid;
 mod study;
