@@ -274,10 +274,17 @@ pub fn transfer_plots(t: &Transfer, connections: usize) -> Vec<Plot> {
         }
         let mut panels = Vec::new();
         for (unit, members) in groups {
-            let curves = |pick: fn(&(String, Vec<f64>, Vec<f64>)) -> &[f64]| {
+            // Magnitude (`false`) or phase (`true`) of each member.
+            let curves = |phase: bool| {
                 let columns: Vec<(&str, &[f64])> = members
                     .iter()
-                    .map(|&i| (t.outputs[i].0.as_str(), pick(&t.outputs[i])))
+                    .map(|&i| {
+                        let (name, magnitude, angle) = &t.outputs[i];
+                        (
+                            name.as_str(),
+                            if phase { angle } else { magnitude }.as_slice(),
+                        )
+                    })
                     .collect();
                 curves_over(&t.frequencies_hz, &columns)
             };
@@ -286,7 +293,7 @@ pub fn transfer_plots(t: &Transfer, connections: usize) -> Vec<Plot> {
                 title: format!("{what}: magnitude"),
                 x: Axis::new("f (Hz)", Scale::Linear),
                 y: Axis::new(format!("|H| ({unit})"), Scale::Log),
-                curves: curves(|o| &o.1),
+                curves: curves(false),
                 legend: true,
             });
             panels.push(Panel {
@@ -294,7 +301,7 @@ pub fn transfer_plots(t: &Transfer, connections: usize) -> Vec<Plot> {
                 x: Axis::new("f (Hz)", Scale::Linear),
                 y: Axis::new("arg H (rad)", Scale::Linear)
                     .fixed(-std::f64::consts::PI, std::f64::consts::PI),
-                curves: curves(|o| &o.2),
+                curves: curves(true),
                 legend: false,
             });
         }

@@ -97,7 +97,7 @@ fn frf_plots_show_log_magnitudes_with_the_phase_below() {
         assert_journal_figure(name, svg);
         let panels = panels(svg);
         assert!(
-            panels.len() % 2 == 0,
+            panels.len().is_multiple_of(2),
             "{name}: magnitude and phase in pairs"
         );
         for pair in panels.chunks(2) {
