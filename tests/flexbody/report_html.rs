@@ -102,7 +102,9 @@ fn study_report_holds_the_table_and_every_plot_and_renders_in_chromium() {
             !peers_required(),
             "FLEXBODY_REQUIRE_PEERS=1 but chromium is missing; run scripts/install_peers.sh"
         );
-        eprintln!("study_report_...renders_in_chromium: SKIPPED the browser check, chromium is not installed");
+        eprintln!(
+            "study_report_holds_the_table_and_every_plot_and_renders_in_chromium: SKIPPED the browser check, chromium is not installed"
+        );
         return;
     };
     // The page as Chromium built it: the table and the plots are there,
