@@ -5,15 +5,20 @@
 #     matrices against a live ccx (crates/fem) and the stored fixtures
 #     (scripts/calculix_fixtures.sh check);
 #   - numpy, scipy and exudyn for python3 (pip), for scripts/exudyn_check.py,
-#     run by the test exudyn::exudyn_agrees_with_flexbody.
+#     run by the test exudyn::exudyn_agrees_with_flexbody;
+#   - Chromium (Debian package chromium), the browser that renders the HTML
+#     report of `study --report` in the test report_html.
 # Prints the versions found.
 set -euo pipefail
 
-if ! command -v ccx >/dev/null 2>&1; then
+missing=()
+command -v ccx >/dev/null 2>&1 || missing+=(calculix-ccx)
+command -v chromium >/dev/null 2>&1 || missing+=(chromium)
+if [ ${#missing[@]} -gt 0 ]; then
     sudo=""
     [ "$(id -u)" = 0 ] || sudo="sudo"
     $sudo apt-get update -qq
-    $sudo apt-get install -y -qq calculix-ccx >/dev/null
+    $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 if ! python3 -c "import numpy, scipy, exudyn" >/dev/null 2>&1; then
     python3 -m pip install --quiet numpy scipy exudyn==1.13.6
@@ -22,4 +27,5 @@ fi
 # `ccx -v` exits non-zero.
 ccx_version="$( (ccx -v 2>&1 || true) | grep -m1 -o 'Version [0-9.]*' || true)"
 python_versions="$(python3 -c 'import exudyn, numpy, scipy; print(f"exudyn {exudyn.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}")')"
-echo "peers: ccx ${ccx_version:-of unknown version}, ${python_versions}"
+chromium_version="$(chromium --version 2>/dev/null | head -n1 || true)"
+echo "peers: ccx ${ccx_version:-of unknown version}, ${python_versions}, ${chromium_version:-chromium of unknown version}"

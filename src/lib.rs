@@ -11,9 +11,9 @@
 //! Data flows one way, one crate per stage:
 //! [`fem`] (model, K, M) -> [`reduce`] (modes, [`reduce::ReducedBody`]) ->
 //! [`mbs`] (coupling, harmonic response) -> [`recover`] (section forces) ->
-//! [`study`], [`report`] and [`plot`] (accuracy report); [`io`] reads FE
-//! models, [`scenario`] what a model file does with its model (interface,
-//! MBS, study), [`output`] computes what the files of a reduced body hold
+//! [`study`], [`report`], [`plot`] and [`report_html`] (accuracy report);
+//! [`io`] reads FE models, [`scenario`] what a model file does with its
+//! model (interface, MBS, study), [`output`] computes what the files of a reduced body hold
 //! besides the body (the SID's floating-frame content, the VTU's mode
 //! fields), and [`export`] formats them.
 //!
@@ -34,6 +34,7 @@ pub mod output;
 pub mod output_folder;
 pub mod plot;
 pub mod report;
+pub mod report_html;
 pub mod scenario;
 pub mod simulate;
 pub mod study;

@@ -13,7 +13,9 @@ use flexbody::output_folder::OutputFolder;
 use flexbody::reduce::{reduce_keeping, Keep, Method, Reduction};
 use flexbody::report::{self, Check};
 use flexbody::simulate::Vehicle;
-use flexbody::{export, input, output, plot, reduce as red, scenario, simulate, study};
+use flexbody::{
+    export, input, output, plot, reduce as red, report_html, scenario, simulate, study,
+};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -78,6 +80,10 @@ enum Command {
         /// Do not write plots.
         #[arg(long)]
         no_plots: bool,
+        /// Also write one self-contained HTML page (for a design review):
+        /// the run, the model, the error table and every plot inline.
+        #[arg(long, value_name = "FILE.html")]
+        report: Option<PathBuf>,
     },
     /// Reduce a model to a flexible body and write it (JSON, SID or Matrix Market; a VTU of its modes with --vtu).
     #[command(after_help = METHODS_HELP)]
@@ -276,7 +282,15 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             json,
             out,
             no_plots,
-        } => run_study(&model, json, out, no_plots, deck, budget, progress),
+            report,
+        } => run_study(
+            &model,
+            json,
+            (out, no_plots, report),
+            deck,
+            budget,
+            progress,
+        ),
         Command::Reduce {
             model,
             interface,
@@ -342,8 +356,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
 fn run_study(
     model: &Path,
     json: bool,
-    out: Option<PathBuf>,
-    no_plots: bool,
+    (out, no_plots, html): (Option<PathBuf>, bool, Option<PathBuf>),
     deck: DeckOptions,
     budget: Budget,
     progress: &dyn Progress,
@@ -359,10 +372,17 @@ fn run_study(
     Takes::STUDY.check(model)?;
     let file = scenario::read_model_file_with(model, &deck)?;
     warn_deck(&file.notes, &file.warnings, &file.unknown_keywords);
+    if let Some(path) = &html {
+        export::check_writable(path)?;
+    }
     let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
         plot::plot_study(dir, &result).map_err(anyhow::Error::msg)?;
+    }
+    if let Some(path) = &html {
+        let run = report_html::RunInfo::of_this_process();
+        report_html::write_study_report(path, &file, &result, &run)?;
     }
     if let Some(folder) = folder {
         folder.keep();
@@ -377,6 +397,9 @@ fn run_study(
         );
         if let Some(dir) = dir {
             say!("plots: {}", dir.display());
+        }
+        if let Some(path) = &html {
+            say!("report: {}", path.display());
         }
     }
     match result.failures.len() {

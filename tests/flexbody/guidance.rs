@@ -79,6 +79,25 @@ fn a_failing_case_is_reported_and_the_others_still_run() {
     let err = stderr(&o);
     assert!(err.contains("study cases failed"), "{err}");
 
+    // The HTML report lists them too, and the command names the page.
+    let page = dir.path().join("report.html");
+    let o = flexbody(&[
+        "study",
+        &m,
+        "--no-plots",
+        "--report",
+        page.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("report: "));
+    let html = std::fs::read_to_string(&page).unwrap();
+    let failed = &html[html
+        .find("<h2>Failed cases</h2>")
+        .expect("a failed-cases list")..];
+    assert!(failed.contains(
+        "craig-bampton, 13 eigenmodes</b>: the interface DOFs (node 11 uz) leave a mechanism"
+    ));
+
     // --json lists the failures beside the rows.
     let o = flexbody(&["study", &m, "--no-plots", "--json"]);
     assert_eq!(o.status.code(), Some(2));

@@ -16,6 +16,8 @@ mod guidance;
 mod interfaces;
 mod memory;
 mod model_files;
+mod plots;
+mod report_html;
 mod section_forces;
 mod sid;
 mod study;
