@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use export::vtu::Encoding as VtuEncoding;
 use flexbody::file_kind::Takes;
 use flexbody::io::deck::{DeckOptions, UnknownKeywords};
 use flexbody::linalg::memory::Budget;
@@ -112,6 +113,9 @@ enum Command {
         /// ParaView (.vtu; needs a mesh).
         #[arg(long)]
         vtu: Option<PathBuf>,
+        /// Write the --vtu file as ASCII (default: zlib-compressed binary).
+        #[arg(long, requires = "vtu")]
+        vtu_ascii: bool,
         /// Rotate the basis so that M_red = I and K_red is diagonal.
         #[arg(long)]
         orthonormalize: bool,
@@ -264,6 +268,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             out,
             format,
             vtu,
+            vtu_ascii,
             orthonormalize,
             json,
             check,
@@ -274,7 +279,11 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             deck,
             method,
             (modes, fmax),
-            (&out, format, vtu.as_deref()),
+            (
+                &out,
+                format,
+                vtu.as_deref().map(|p| (p, vtu_encoding(vtu_ascii))),
+            ),
             orthonormalize,
             (json, check),
             budget,
@@ -385,7 +394,7 @@ fn run_reduce(
     deck: DeckOptions,
     method: Method,
     (modes, fmax): (usize, Option<f64>),
-    (out, format, vtu): (&Path, export::Format, Option<&Path>),
+    (out, format, vtu): (&Path, export::Format, Option<(&Path, VtuEncoding)>),
     orthonormalize: bool,
     (json, check): (bool, Check),
     budget: Budget,
@@ -396,7 +405,7 @@ fn run_reduce(
         export::Format::Mtx => export::check_folder_writable(out)?,
         _ => export::check_writable(out)?,
     }
-    if let Some(path) = vtu {
+    if let Some((path, _)) = vtu {
         export::check_writable(path)?;
     }
     let mut c = load(model, matrices, Takes::REDUCE, deck)?;
@@ -438,8 +447,8 @@ fn run_reduce(
     let files = output::body_output(&c.sub, c.model.as_ref(), &body, format, metadata)?;
     export::write(&files, format, out)?;
     stage_log::step(&format!("written: {}", out.display()));
-    if let (Some(path), Some(mesh)) = (vtu, &c.model) {
-        export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, path)?;
+    if let (Some((path, encoding)), Some(mesh)) = (vtu, &c.model) {
+        export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, encoding, path)?;
     }
     if json {
         let doc =
@@ -476,6 +485,15 @@ fn run_reduce(
         }
     }
     Ok(())
+}
+
+/// The encoding of the `--vtu` file: binary unless `--vtu-ascii`.
+fn vtu_encoding(ascii: bool) -> VtuEncoding {
+    if ascii {
+        VtuEncoding::Ascii
+    } else {
+        VtuEncoding::Binary
+    }
 }
 
 /// The modes `flexbody modes` computes: `--count` (default 10), every one

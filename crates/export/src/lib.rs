@@ -26,6 +26,8 @@ mod json_layout;
 pub mod mtx;
 pub mod sid;
 pub mod vtk;
+pub mod vtu;
+mod zlib_blocks;
 
 pub use format::{read_any, summary, write, AnyBody, BodyOutput, Format};
 pub use sid::{read_sid, write_sid, Sid};
