@@ -449,6 +449,7 @@ fn run_reduce(
     stage_log::step(&format!("written: {}", out.display()));
     if let (Some((path, encoding)), Some(mesh)) = (vtu, &c.model) {
         export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, encoding, path)?;
+        stage_log::step(&format!("written: {}", path.display()));
     }
     if json {
         let doc =
