@@ -3,7 +3,7 @@
 //!
 //! - [`Encoding::Binary`] (the default): every array in one
 //!   `<AppendedData encoding="raw">` section after the XML, zlib-compressed
-//!   in VTK's block layout ([`zlib_blocks`](crate::zlib_blocks): a `UInt64`
+//!   in VTK's block layout (module `zlib_blocks`: a `UInt64`
 //!   header `[blocks, block size, last block size, compressed sizes..]`
 //!   then the blocks); the root element says `header_type="UInt64"` and
 //!   `compressor="vtkZLibDataCompressor"`, and each `DataArray` gives its
