@@ -7,7 +7,9 @@
 #   - numpy, scipy and exudyn for python3 (pip), for scripts/exudyn_check.py,
 #     run by the test exudyn::exudyn_agrees_with_flexbody;
 #   - Chromium (Debian package chromium), the browser that renders the HTML
-#     report of `study --report` in the test report_html.
+#     report of `study --report` in the test report_html;
+#   - meshio for python3 (pip), for scripts/vtu_compare.py, run by the test
+#     vtu::binary_vtu_reads_in_meshio_as_the_ascii_one.
 # Prints the versions found.
 set -euo pipefail
 
@@ -23,9 +25,12 @@ fi
 if ! python3 -c "import numpy, scipy, exudyn" >/dev/null 2>&1; then
     python3 -m pip install --quiet numpy scipy exudyn==1.13.6
 fi
+if ! python3 -c "import meshio" >/dev/null 2>&1; then
+    python3 -m pip install --quiet meshio==5.3.5
+fi
 
 # `ccx -v` exits non-zero.
 ccx_version="$( (ccx -v 2>&1 || true) | grep -m1 -o 'Version [0-9.]*' || true)"
-python_versions="$(python3 -c 'import exudyn, numpy, scipy; print(f"exudyn {exudyn.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}")')"
+python_versions="$(python3 -c 'import exudyn, meshio, numpy, scipy; print(f"exudyn {exudyn.__version__}, meshio {meshio.__version__}, numpy {numpy.__version__}, scipy {scipy.__version__}")')"
 chromium_version="$(chromium --version 2>/dev/null | head -n1 || true)"
 echo "peers: ccx ${ccx_version:-of unknown version}, ${python_versions}, ${chromium_version:-chromium of unknown version}"

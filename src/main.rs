@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
+use export::vtu::Encoding as VtuEncoding;
 use flexbody::file_kind::Takes;
 use flexbody::io::deck::{DeckOptions, UnknownKeywords};
 use flexbody::linalg::memory::Budget;
@@ -120,6 +121,9 @@ enum Command {
         /// ParaView (.vtu; needs a mesh).
         #[arg(long)]
         vtu: Option<PathBuf>,
+        /// Write the --vtu file as ASCII (default: zlib-compressed binary).
+        #[arg(long, requires = "vtu")]
+        vtu_ascii: bool,
         /// Rotate the basis so that M_red = I and K_red is diagonal.
         #[arg(long)]
         orthonormalize: bool,
@@ -301,6 +305,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             out,
             format,
             vtu,
+            vtu_ascii,
             orthonormalize,
             json,
             check,
@@ -311,7 +316,11 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             deck,
             method,
             (modes, fmax),
-            (&out, format, vtu.as_deref()),
+            (
+                &out,
+                format,
+                vtu.as_deref().map(|p| (p, vtu_encoding(vtu_ascii))),
+            ),
             orthonormalize,
             (json, check),
             budget,
@@ -446,7 +455,7 @@ fn run_reduce(
     deck: DeckOptions,
     method: Method,
     (modes, fmax): (Option<usize>, Option<f64>),
-    (out, format, vtu): (&Path, export::Format, Option<&Path>),
+    (out, format, vtu): (&Path, export::Format, Option<(&Path, VtuEncoding)>),
     orthonormalize: bool,
     (json, check): (bool, Check),
     budget: Budget,
@@ -457,7 +466,7 @@ fn run_reduce(
         export::Format::Mtx => export::check_folder_writable(out)?,
         _ => export::check_writable(out)?,
     }
-    if let Some(path) = vtu {
+    if let Some((path, _)) = vtu {
         export::check_writable(path)?;
     }
     let mut c = load(model, matrices, Takes::REDUCE, deck)?;
@@ -527,9 +536,10 @@ fn run_reduce(
         ),
         _ => out.display().to_string(),
     }];
-    if let (Some(path), Some(mesh)) = (vtu, &c.model) {
+    if let (Some((path, encoding)), Some(mesh)) = (vtu, &c.model) {
         stage_log::step(&format!("writing the mode shapes to {}", path.display()));
-        export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, path)?;
+        export::vtk::write_vtu(mesh, &output::mode_fields(mesh, &body)?, encoding, path)?;
+        stage_log::step(&format!("written: {}", path.display()));
         written.push(format!("{} (mode shapes for ParaView)", path.display()));
     }
     if json {
@@ -581,6 +591,15 @@ fn reduce_modes(method: Method, modes: Option<usize>, fmax: Option<f64>) -> Resu
              rigid-body modes included) or --fmax F (every eigenmode below F Hz); \
              `flexbody reduce --help` says what each method counts"
         ),
+    }
+}
+
+/// The encoding of the `--vtu` file: binary unless `--vtu-ascii`.
+fn vtu_encoding(ascii: bool) -> VtuEncoding {
+    if ascii {
+        VtuEncoding::Ascii
+    } else {
+        VtuEncoding::Binary
     }
 }
 

@@ -4,6 +4,7 @@
 
 use super::support::{hex_beam, reduce_with, side_beam_json};
 use flexbody::export::sid::{parse_sid, read_sid, write_sid};
+use flexbody::export::vtu::Encoding;
 use flexbody::export::{read_any, read_json, summary, vtk, AnyBody, ExportError, Format};
 use flexbody::fem::{Model, Substructure};
 use flexbody::output;
@@ -23,10 +24,25 @@ fn write(
     flexbody::export::write(&files, format, path)
 }
 
-/// Writes the VTU file of `body` on `model`: its mode fields computed,
-/// then formatted.
+/// Writes the binary VTU file of `body` on `model`: its mode fields
+/// computed, then formatted.
 fn write_vtu(model: &Model, body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
-    vtk::write_vtu(model, &output::mode_fields(model, body).unwrap(), path)
+    write_vtu_as(model, body, Encoding::Binary, path)
+}
+
+/// [`write_vtu`] in `encoding`.
+fn write_vtu_as(
+    model: &Model,
+    body: &ReducedBody,
+    encoding: Encoding,
+    path: &Path,
+) -> Result<(), ExportError> {
+    vtk::write_vtu(
+        model,
+        &output::mode_fields(model, body).unwrap(),
+        encoding,
+        path,
+    )
 }
 
 /// The hex-element beam, its mesh, and its free-residual body of 2
@@ -253,23 +269,28 @@ fn vtu_holds_the_mesh_the_modes_and_the_stresses() {
     let (_, model, body) = hex_beam_body();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.vtu");
-    write_vtu(&model, &body, &path).unwrap();
-    let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("<VTKFile type=\"UnstructuredGrid\""));
-    assert!(text.contains(&format!(
-        "NumberOfPoints=\"{}\" NumberOfCells=\"6\"",
-        model.nodes().len()
-    )));
-    for k in 1..=body.r() {
-        assert!(text.contains(&format!("Name=\"mode {k:02}\"")), "mode {k}");
-        assert!(
-            text.contains(&format!("Name=\"mode {k:02} von Mises\"")),
-            "mode {k}"
-        );
-        assert!(
-            text.contains(&format!("Name=\"mode {k:02} stress\"")),
-            "mode {k}"
-        );
+    for encoding in [Encoding::Binary, Encoding::Ascii] {
+        write_vtu_as(&model, &body, encoding, &path).unwrap();
+        // The XML before the binary section is text.
+        let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+        assert!(text.contains("<VTKFile type=\"UnstructuredGrid\""));
+        assert!(text.contains(&format!(
+            "NumberOfPoints=\"{}\" NumberOfCells=\"6\"",
+            model.nodes().len()
+        )));
+        for k in 1..=body.r() {
+            assert!(text.contains(&format!("Name=\"mode {k:02}\"")), "mode {k}");
+            assert!(
+                text.contains(&format!("Name=\"mode {k:02} von Mises\"")),
+                "mode {k}"
+            );
+            assert!(
+                text.contains(&format!("Name=\"mode {k:02} stress\"")),
+                "mode {k}"
+            );
+        }
+        let appended = text.contains("<AppendedData encoding=\"raw\">");
+        assert_eq!(appended, encoding == Encoding::Binary, "{encoding:?}");
     }
     // Cells: 6 hexahedra (VTK type 12).
     assert_eq!(vtk::cell_types(&model), vec![12; 6]);

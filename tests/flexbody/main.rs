@@ -23,6 +23,7 @@ mod sid;
 mod study;
 mod support;
 mod vehicle;
+mod vtu;
 
 use flexbody::fem::Substructure;
 use flexbody::linalg::memory::Budget;

@@ -10,7 +10,8 @@
 //! - a folder of Matrix Market files with a JSON index, [`mtx`], for large
 //!   bodies;
 //! - a VTK unstructured grid with the mode shapes and modal stresses for
-//!   ParaView, [`vtk`], from the modes and stresses computed for it.
+//!   ParaView, [`vtk`], from the modes and stresses computed for it, as
+//!   zlib-compressed binary or ASCII XML ([`vtu`]).
 //!
 //! The writers only format values they are given: what a format adds to the
 //! body (SID content, accuracy figures) comes in a [`BodyOutput`].
@@ -26,6 +27,8 @@ mod json_layout;
 pub mod mtx;
 pub mod sid;
 pub mod vtk;
+pub mod vtu;
+mod zlib_blocks;
 
 pub use format::{read_any, summary, write, AnyBody, BodyOutput, Format};
 pub use sid::{read_sid, write_sid, Sid};
