@@ -277,16 +277,27 @@ pub fn transfer_plots(t: &Transfer, connections: usize) -> Vec<Plot> {
         }
         let mut panels = Vec::new();
         for (unit, members) in groups {
-            // Magnitude (`false`) or phase (`true`) of each member.
+            // Magnitude (`false`) or phase (`true`) of each member; where
+            // the magnitude is zero the phase is undefined and not drawn.
+            let phases: Vec<Vec<f64>> = members
+                .iter()
+                .map(|&i| {
+                    let (_, magnitude, angle) = &t.outputs[i];
+                    magnitude
+                        .iter()
+                        .zip(angle)
+                        .map(|(m, a)| if *m == 0.0 { f64::NAN } else { *a })
+                        .collect()
+                })
+                .collect();
             let curves = |phase: bool| {
                 let columns: Vec<(&str, &[f64])> = members
                     .iter()
-                    .map(|&i| {
-                        let (name, magnitude, angle) = &t.outputs[i];
-                        (
-                            name.as_str(),
-                            if phase { angle } else { magnitude }.as_slice(),
-                        )
+                    .zip(&phases)
+                    .map(|(&i, phase_of)| {
+                        let (name, magnitude, _) = &t.outputs[i];
+                        let values = if phase { phase_of } else { magnitude };
+                        (name.as_str(), values.as_slice())
                     })
                     .collect();
                 curves_over(&t.frequencies_hz, &columns)
