@@ -109,9 +109,9 @@ pub fn load_with(
                 unknown_keywords: file.unknown_keywords.clone(),
                 warnings: file.warnings.clone(),
                 notes: file.notes.clone(),
+                element_sets: file.element_sets.clone(),
+                catalogue: file.catalogue.clone(),
                 file: Some(file),
-                element_sets: BTreeMap::new(),
-                catalogue: Catalogue::default(),
                 timing: timing(),
             })
         }

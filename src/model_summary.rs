@@ -43,7 +43,12 @@ pub fn lines(c: &Component) -> Result<Vec<String>, FemError> {
         .sections
         .iter()
         .map(|s| {
-            let mut t = format!("{} on {} ({} elements)", s.keyword, s.elset, s.elements);
+            // A model file's section is named; a deck's applies to a set.
+            let mut t = if s.keyword.starts_with("[[") {
+                format!("{} ({} elements)", s.elset, s.elements)
+            } else {
+                format!("{} on {} ({} elements)", s.keyword, s.elset, s.elements)
+            };
             if let Some(m) = &s.material {
                 t += &format!(", material {m}");
             }

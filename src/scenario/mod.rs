@@ -74,6 +74,10 @@ pub struct ModelFile {
     pub warnings: Vec<String>,
     /// The `mesh` deck's note on the routine keywords it skipped.
     pub notes: Vec<String>,
+    /// The `mesh` deck's element sets (upper-case names).
+    pub element_sets: std::collections::BTreeMap<String, Vec<usize>>,
+    /// The file's and its deck's materials and sections.
+    pub catalogue: flexbody_io::deck::Catalogue,
 }
 
 /// Where the flexible body of a simulation comes from.
@@ -181,6 +185,8 @@ pub fn parse_model_file_with(
         unknown,
         warnings,
         notes,
+        element_sets,
+        catalogue,
     } = parse_model_toml(src, options)?;
     let rigid = mbs::rigid_bodies(src, &raw)?;
     mbs::check_track(src, &raw)?;
@@ -208,5 +214,7 @@ pub fn parse_model_file_with(
         unknown_keywords: unknown,
         warnings,
         notes,
+        element_sets,
+        catalogue,
     })
 }

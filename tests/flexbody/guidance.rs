@@ -498,3 +498,37 @@ fn routine_skipped_keywords_take_one_line_so_that_warnings_stand_out() {
         &["bad.inp:46", "*FREQENCY", "*FREQUENCY"],
     );
 }
+
+#[test]
+fn info_lists_what_a_model_file_and_its_deck_define() {
+    // Beam lines: the file's own materials and sections, by name.
+    let o = run_ok(&["info", super::side_beam_path().to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    for needle in [
+        "node sets: beam (21 nodes), seats (4 nodes)",
+        "materials: steel (E 2.1e11 Pa, nu 3e-1, density 6.8e3 kg/m^3)",
+        "sections: box (20 elements), material steel",
+    ] {
+        assert!(text.contains(needle), "'{needle}' not in:\n{text}");
+    }
+    // A model file around a deck: the deck's sets, couplings, material and
+    // section, as `info` on the deck itself lists them.
+    let solid = super::support::solid_side_beam();
+    let o = run_ok(&["info", solid.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let deck = solid.with_extension("inp");
+    let o = run_ok(&["info", deck.to_str().unwrap()]);
+    let deck_text = String::from_utf8_lossy(&o.stdout).into_owned();
+    for prefix in ["element sets: ", "materials: ", "sections: ", "node sets: "] {
+        let line = |t: &str| t.lines().find(|l| l.starts_with(prefix)).map(str::to_owned);
+        assert_eq!(line(&text), line(&deck_text), "{prefix}");
+        assert!(
+            line(&text).is_some_and(|l| !l.ends_with("none")),
+            "{prefix}: {text}"
+        );
+    }
+    assert!(
+        text.contains("primary_front (distributing, reference node 1001, 12 nodes)"),
+        "{text}"
+    );
+}

@@ -11,7 +11,7 @@
 mod beam_lines;
 
 use super::raw::{RawElement, RawModel};
-use crate::deck::{DeckOptions, UnknownKeywords};
+use crate::deck::{Catalogue, DeckOptions, MaterialEntry, SectionEntry, UnknownKeywords};
 use crate::{InputError, TomlSource};
 use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
 use flexbody_fem::section::SectionConstants;
@@ -31,6 +31,10 @@ pub(crate) struct Built {
     pub warnings: Vec<String>,
     /// The deck's note on the routine keywords it skipped.
     pub notes: Vec<String>,
+    /// The deck's element sets (upper-case names).
+    pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// The file's and the deck's materials and sections.
+    pub catalogue: Catalogue,
 }
 
 /// Checks the raw sections and assembles the model they describe.
@@ -61,12 +65,79 @@ pub(crate) fn build(
     b.node_sets(raw, &known)?;
     b.boundaries(raw, &known)?;
     let couplings = b.couplings(raw, &known)?;
+    let element_sets = std::mem::take(&mut b.deck_element_sets);
+    let mut catalogue = file_catalogue(raw);
+    let deck = std::mem::take(&mut b.deck_catalogue);
+    catalogue.materials.extend(deck.materials);
+    catalogue.sections.extend(deck.sections);
     Ok(Built {
+        element_sets,
+        catalogue,
         model: b.finish(raw, couplings)?,
         unknown,
         warnings,
         notes,
     })
+}
+
+/// The file's own materials, and its sections with the elements of the
+/// beam lines and `[[element]]` beams that take them.
+fn file_catalogue(raw: &RawModel) -> Catalogue {
+    let materials = raw
+        .material
+        .iter()
+        .map(|m| MaterialEntry {
+            name: m.name.get_ref().clone(),
+            youngs_modulus: Some(*m.youngs_modulus.get_ref()),
+            poisson: Some(*m.poisson_ratio.get_ref()),
+            density: Some(*m.density.get_ref()),
+        })
+        .collect();
+    let sections = raw
+        .section
+        .iter()
+        .map(|s| {
+            let name = &s.get_ref().name;
+            let mut material = None;
+            let mut elements = 0;
+            for line in &raw.beam_line {
+                let l = line.get_ref();
+                if l.section.get_ref() == name {
+                    elements += l.elements;
+                    material.get_or_insert_with(|| l.material.get_ref().clone());
+                }
+            }
+            for e in &raw.element {
+                if let RawElement::Beam {
+                    section,
+                    material: m,
+                    ..
+                }
+                | RawElement::PlanarBeam {
+                    section,
+                    material: m,
+                    ..
+                } = e.get_ref()
+                {
+                    if section == name {
+                        elements += 1;
+                        material.get_or_insert_with(|| m.clone());
+                    }
+                }
+            }
+            SectionEntry {
+                keyword: "[[section]]".to_string(),
+                elset: name.clone(),
+                material,
+                elements,
+                mass: None,
+            }
+        })
+        .collect();
+    Catalogue {
+        materials,
+        sections,
+    }
 }
 
 /// The model as it grows, with the line each node and element came from.
@@ -87,6 +158,9 @@ struct Builder<'a> {
     deck_couplings: Vec<Coupling>,
     /// Damping of the deck, unless the file has `[damping]`.
     deck_damping: Option<Rayleigh>,
+    /// Element sets, materials and sections of the deck, for the user.
+    deck_element_sets: BTreeMap<String, Vec<usize>>,
+    deck_catalogue: Catalogue,
 }
 
 impl<'a> Builder<'a> {
@@ -144,6 +218,8 @@ impl<'a> Builder<'a> {
             deck_fixed: Vec::new(),
             deck_couplings: Vec::new(),
             deck_damping: None,
+            deck_element_sets: BTreeMap::new(),
+            deck_catalogue: Catalogue::default(),
         })
     }
 
@@ -233,6 +309,8 @@ impl<'a> Builder<'a> {
         self.deck_fixed = deck.model.fixed_dofs().copied().collect();
         self.deck_couplings = deck.model.couplings().to_vec();
         self.deck_damping = deck.model.rayleigh();
+        self.deck_element_sets = deck.element_sets.clone();
+        self.deck_catalogue = deck.catalogue.clone();
         let notes = deck.skipped_note().into_iter().collect();
         let warnings = deck.warning_lines();
         Ok((deck.unknown, warnings, notes))

@@ -31,6 +31,10 @@ pub struct ModelToml {
     /// The `mesh` deck's note on the routine keywords it skipped
     /// (`*STEP`, outputs), naming the deck.
     pub notes: Vec<String>,
+    /// The `mesh` deck's element sets (upper-case names).
+    pub element_sets: std::collections::BTreeMap<String, Vec<usize>>,
+    /// The file's and its deck's materials and sections, for the user.
+    pub catalogue: crate::deck::Catalogue,
 }
 
 /// Reads the model sections of a TOML text and builds the model; errors
@@ -47,5 +51,7 @@ pub fn parse_model_toml(
         unknown: built.unknown,
         warnings: built.warnings,
         notes: built.notes,
+        element_sets: built.element_sets,
+        catalogue: built.catalogue,
     })
 }
