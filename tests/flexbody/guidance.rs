@@ -532,3 +532,63 @@ fn info_lists_what_a_model_file_and_its_deck_define() {
         "{text}"
     );
 }
+
+/// The text of the repository's `path`.
+fn repository_file(path: &str) -> String {
+    std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)).unwrap()
+}
+
+#[test]
+fn the_readme_synopsis_names_only_options_the_commands_take() {
+    let readme = repository_file("README.md");
+    // How to put the binary on the PATH.
+    assert!(readme.contains("cargo install --path ."));
+    // The synopsis block under "## Commands": every option of every line
+    // is in that command's --help.
+    let commands = &readme[readme.find("## Commands").unwrap()..];
+    let block = &commands[commands.find("```sh\n").unwrap() + 6..];
+    let block = &block[..block.find("```").unwrap()];
+    let mut command = String::new();
+    let mut checked = 0;
+    for line in block.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if words.first() == Some(&"flexbody") {
+            command = words[1].to_string();
+        }
+        let help =
+            String::from_utf8_lossy(&run_ok(&[command.as_str(), "--help"]).stdout).into_owned();
+        for option in words.iter().filter_map(|w| {
+            let w = w.trim_start_matches('[');
+            w.starts_with("--")
+                .then(|| w.trim_end_matches([']', ',']).split('|').next().unwrap())
+        }) {
+            assert!(
+                help.contains(option),
+                "README: `flexbody {command} {option}` is not in its --help"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "{checked} options checked");
+}
+
+#[test]
+fn examples_point_only_to_files_in_the_repository() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for entry in std::fs::read_dir(root.join("examples")).unwrap() {
+        let path = entry.unwrap().path();
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            continue;
+        };
+        for word in text.split(|c: char| c.is_whitespace() || "()`\"',;".contains(c)) {
+            let word = word.trim_end_matches(['.', ':']);
+            if word.ends_with(".md") {
+                assert!(
+                    root.join(word).exists() || path.parent().unwrap().join(word).exists(),
+                    "{} cites {word}, which is not in the repository",
+                    path.display()
+                );
+            }
+        }
+    }
+}
