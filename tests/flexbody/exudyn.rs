@@ -1,17 +1,12 @@
 //! Exudyn reading the SID file (`scripts/exudyn_check.py`) agrees with
 //! flexbody.
 
-use super::support::{hex_beam, hex_beam_deck, reduce_args, reduce_with, run_ok};
+use super::support::{
+    hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, skip_without_peer,
+};
 use flexbody::fem::{Dof, DofKind};
 use flexbody::reduce::{Method, ReducedBody};
 use std::path::PathBuf;
-
-/// Whether the peer programs (CalculiX, Exudyn) must be present: set
-/// `FLEXBODY_REQUIRE_PEERS=1` (as `.ci/run` does) to make a missing peer a
-/// failure instead of a skipped check.
-fn peers_required() -> bool {
-    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
-}
 
 /// Exudyn, a real MBS client, against flexbody: `scripts/exudyn_check.py`
 /// reads the SID file that `flexbody reduce --format sid` writes for the
@@ -25,28 +20,16 @@ fn peers_required() -> bool {
 /// the figures measured are in the script.
 ///
 /// Skipped, with a message, when `python3` cannot import exudyn, numpy and
-/// scipy, unless [`peers_required`]. With `FLEXBODY_EXUDYN_DIR` set, the
+/// scipy, unless [`peers_required`](super::support::peers_required). With `FLEXBODY_EXUDYN_DIR` set, the
 /// files are kept there (see [`write_exudyn_data`]).
 #[test]
 fn exudyn_agrees_with_flexbody() {
     use std::process::Command;
-    let probe = Command::new("python3")
-        .args(["-c", "import exudyn, numpy, scipy"])
-        .output();
-    if !probe.as_ref().is_ok_and(|o| o.status.success()) {
-        let why = match &probe {
-            Ok(o) => String::from_utf8_lossy(&o.stderr)
-                .lines()
-                .last()
-                .unwrap_or("")
-                .to_string(),
-            Err(e) => format!("python3: {e}"),
-        };
-        assert!(
-            !peers_required(),
-            "FLEXBODY_REQUIRE_PEERS=1 but Exudyn is missing ({why}); run scripts/install_peers.sh"
+    if let Err(why) = python_imports("exudyn, numpy, scipy") {
+        skip_without_peer(
+            "exudyn_agrees_with_flexbody",
+            &format!("Exudyn (python3: {why})"),
         );
-        eprintln!("exudyn_agrees_with_flexbody: SKIPPED, Exudyn is not available ({why})");
         return;
     }
     let temporary = tempfile::tempdir().unwrap();

@@ -3,7 +3,9 @@
 //! without hiding the others, a missing choice is named with the option
 //! that makes it, and every file written is announced.
 
-use super::support::{fails_with, flexbody, mid_span_interface, run_ok, stderr, variant};
+use super::support::{
+    fails_with, flexbody, mid_span_interface, reduce_args, run_ok, stderr, variant,
+};
 
 /// The study table's rows on stdout, as lines.
 fn stdout_lines(o: &std::process::Output) -> Vec<String> {
@@ -145,16 +147,7 @@ fn coupling_reference_nodes_are_the_default_interface_and_the_command_says_so() 
     let dir = tempfile::tempdir().unwrap();
     let deck = two_point_deck(dir.path(), false);
     let out = dir.path().join("cb.json");
-    let o = run_ok(&[
-        "reduce",
-        &deck,
-        "--method",
-        "craig-bampton",
-        "--modes",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_ok(&reduce_args(&deck, "craig-bampton", "2", &out, &[]));
     let err = stderr(&o);
     assert!(
         err.contains("interface: the reference nodes of the couplings (node 9001, 9002)"),
@@ -163,18 +156,13 @@ fn coupling_reference_nodes_are_the_default_interface_and_the_command_says_so() 
     // Both points held with all six DOFs: r = 2 + 12, and the body's
     // interface is what --interface 9001,9002 gives.
     let named = dir.path().join("named.json");
-    run_ok(&[
-        "reduce",
+    run_ok(&reduce_args(
         &deck,
-        "--method",
         "craig-bampton",
-        "--modes",
         "2",
-        "--interface",
-        "9001,9002",
-        "--out",
-        named.to_str().unwrap(),
-    ]);
+        &named,
+        &["--interface", "9001,9002"],
+    ));
     let inspect = |p: &std::path::Path| {
         let o = run_ok(&["inspect", p.to_str().unwrap(), "--json"]);
         serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
@@ -299,16 +287,7 @@ fn inspect_prints_json_that_agrees_with_its_text() {
     let deck = two_point_deck(dir.path(), false);
     let out = dir.path().join("body.json");
     let out = out.to_str().unwrap();
-    run_ok(&[
-        "reduce",
-        &deck,
-        "--method",
-        "free-residual",
-        "--modes",
-        "3",
-        "--out",
-        out,
-    ]);
+    run_ok(&reduce_args(&deck, "free-residual", "3", out, &[]));
     let text = String::from_utf8_lossy(&run_ok(&["inspect", out]).stdout).into_owned();
     let doc: serde_json::Value =
         serde_json::from_slice(&run_ok(&["inspect", out, "--json"]).stdout).unwrap();
@@ -413,16 +392,13 @@ fn simulate_frf_and_mtx_bodies_announce_every_file_they_write() {
     }
     let deck = two_point_deck(dir.path(), false);
     let body = dir.path().join("body.mtx");
-    let o = run_ok(&[
-        "reduce",
+    let o = run_ok(&reduce_args(
         &deck,
-        "--method",
         "guyan",
-        "--format",
-        "mtx",
-        "--out",
-        body.to_str().unwrap(),
-    ]);
+        "0",
+        &body,
+        &["--format", "mtx"],
+    ));
     let said = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(body.is_dir());
     assert!(said.contains("body.mtx (a folder"), "{said}");

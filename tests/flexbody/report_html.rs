@@ -4,14 +4,9 @@
 //! (headless Chromium, Debian's `chromium`) without errors, its screenshot
 //! showing the table and the plots.
 
-use super::support::run_ok;
+use super::support::{run_ok, skip_without_peer};
 use std::path::Path;
 use std::process::Command;
-
-/// Whether the peers must be present (`.ci/run` sets it).
-fn peers_required() -> bool {
-    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
-}
 
 #[test]
 fn study_report_holds_the_table_and_every_plot_and_renders_in_chromium() {
@@ -98,12 +93,9 @@ fn study_report_holds_the_table_and_every_plot_and_renders_in_chromium() {
     }
 
     let Some(chromium) = chromium() else {
-        assert!(
-            !peers_required(),
-            "FLEXBODY_REQUIRE_PEERS=1 but chromium is missing; run scripts/install_peers.sh"
-        );
-        eprintln!(
-            "study_report_holds_the_table_and_every_plot_and_renders_in_chromium: SKIPPED the browser check, chromium is not installed"
+        skip_without_peer(
+            "study_report_holds_the_table_and_every_plot_and_renders_in_chromium",
+            "chromium",
         );
         return;
     };

@@ -10,6 +10,39 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use tempfile::TempDir;
 
+/// Whether the peer programs (CalculiX, Exudyn, meshio, Chromium) must be
+/// present: `FLEXBODY_REQUIRE_PEERS=1` (as `.ci/run` sets it) makes a
+/// missing peer a failure instead of a skipped check.
+pub(crate) fn peers_required() -> bool {
+    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
+}
+
+/// `test` cannot run its peer check because `missing` is not there: a
+/// failure under [`peers_required`], else a `SKIPPED` line on stderr.
+pub(crate) fn skip_without_peer(test: &str, missing: &str) {
+    assert!(
+        !peers_required(),
+        "FLEXBODY_REQUIRE_PEERS=1 but {missing} is missing; run scripts/install_peers.sh"
+    );
+    eprintln!("{test}: SKIPPED, {missing} is missing");
+}
+
+/// Whether `python3` imports `modules` (`"exudyn, numpy"`); if not, why.
+pub(crate) fn python_imports(modules: &str) -> Result<(), String> {
+    match Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .output()
+    {
+        Ok(o) if o.status.success() => Ok(()),
+        Ok(o) => Err(String::from_utf8_lossy(&o.stderr)
+            .lines()
+            .last()
+            .unwrap_or("")
+            .to_string()),
+        Err(e) => Err(format!("python3: {e}")),
+    }
+}
+
 /// Runs the `flexbody` binary with `args`.
 pub(crate) fn flexbody<S: AsRef<OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_flexbody"))

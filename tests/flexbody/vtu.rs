@@ -3,7 +3,10 @@
 //! by meshio (`scripts/vtu_compare.py`); its size; non-finite values
 //! refused.
 
-use super::support::{fails_with, hex_beam, hex_beam_deck, reduce_args, reduce_with, run_ok};
+use super::support::{
+    fails_with, hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok,
+    skip_without_peer,
+};
 use flexbody::export::vtk;
 use flexbody::export::vtu::Encoding;
 use flexbody::output;
@@ -11,12 +14,6 @@ use flexbody::reduce::Method;
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
-
-/// Whether the peer programs must be present (`FLEXBODY_REQUIRE_PEERS=1`,
-/// as `.ci/run` sets it): a missing peer then fails instead of skipping.
-fn peers_required() -> bool {
-    std::env::var_os("FLEXBODY_REQUIRE_PEERS").is_some_and(|v| v == "1")
-}
 
 /// Values of an array as the file gives them: reals, or integers (Int64
 /// and UInt8).
@@ -257,21 +254,12 @@ fn binary_vtu_decodes_to_the_ascii_arrays() {
 /// zlib, UInt64 headers) as the same grid as the ASCII one: points, cell
 /// blocks, point and field data (`scripts/vtu_compare.py`). Skipped, with
 /// a message, when `python3` cannot import meshio, unless
-/// [`peers_required`].
+/// [`peers_required`](super::support::peers_required).
 #[test]
 fn binary_vtu_reads_in_meshio_as_the_ascii_one() {
     use std::process::Command;
-    let probe = Command::new("python3")
-        .args(["-c", "import meshio"])
-        .output();
-    if !probe.as_ref().is_ok_and(|o| o.status.success()) {
-        assert!(
-            !peers_required(),
-            "FLEXBODY_REQUIRE_PEERS=1 but meshio is missing; run scripts/install_peers.sh"
-        );
-        eprintln!(
-            "binary_vtu_reads_in_meshio_as_the_ascii_one: SKIPPED, python3 cannot import meshio"
-        );
+    if python_imports("meshio").is_err() {
+        skip_without_peer("binary_vtu_reads_in_meshio_as_the_ascii_one", "meshio");
         return;
     }
     let dir = tempfile::tempdir().unwrap();
