@@ -24,6 +24,27 @@ fn a_connection_to_a_missing_node_names_it_and_the_line() {
 }
 
 #[test]
+fn a_misspelt_section_key_is_refused_not_defaulted() {
+    // A general section's shear area misspelt would have been skipped and
+    // the default 5/6 of the area taken in its place.
+    study_of_variant_fails_with(
+        "m.toml",
+        "shape = \"box\"             # box section b x h, wall t (appendix A)\nwidth = 0.24              # m, along y\nheight = 0.20             # m, along z\nwall = 0.012              # m",
+        "shape = \"general\"\narea = 1e-2\niy = 1e-5\niz = 1e-5\ntorsion = 2e-5\nshear_area_z = 5e-3\nshear_aera_y = 5e-3",
+        &["m.toml:11:", "section 'box'", "unknown field `shear_aera_y`", "shear_area_y"],
+    );
+    // The same with the key spelt right is read.
+    let dir = tempfile::tempdir().unwrap();
+    let good = variant(
+        dir.path(),
+        "g.toml",
+        "shape = \"box\"             # box section b x h, wall t (appendix A)\nwidth = 0.24              # m, along y\nheight = 0.20             # m, along z\nwall = 0.012              # m",
+        "shape = \"general\"\narea = 1e-2\niy = 1e-5\niz = 1e-5\ntorsion = 2e-5\nshear_area_z = 5e-3\nshear_area_y = 5e-3",
+    );
+    run_ok(&["info", &good]);
+}
+
+#[test]
 fn a_negative_density_names_the_line() {
     study_of_variant_fails_with(
         "m.toml",

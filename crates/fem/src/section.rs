@@ -50,7 +50,7 @@ pub enum BeamTheory {
 
 /// Cross-section shapes with their section constants.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "shape", rename_all = "kebab-case")]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum SectionShape {
     /// Constants given directly. Shear areas default to the area times 5/6.
     General {

@@ -47,11 +47,27 @@ fn default_poisson() -> Spanned<f64> {
     Spanned::new(0..0, 0.3)
 }
 
-#[derive(Deserialize)]
+/// A `[[section]]`: its name and its shape's keys, none besides them (a
+/// misspelt `shear_area_y` is an error, not a default).
 pub(crate) struct RawSection {
     pub name: String,
-    #[serde(flatten)]
     pub shape: SectionShape,
+}
+
+impl<'de> Deserialize<'de> for RawSection {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut table = toml::Table::deserialize(d)?;
+        let name = match table.remove("name") {
+            Some(toml::Value::String(name)) => name,
+            Some(_) => return Err(D::Error::custom("section name must be a string")),
+            None => return Err(D::Error::missing_field("name")),
+        };
+        // The shape's own fields only: `SectionShape` denies the others.
+        let shape = SectionShape::deserialize(toml::Value::Table(table))
+            .map_err(|e| D::Error::custom(format!("section '{name}': {}", e.message())))?;
+        Ok(RawSection { name, shape })
+    }
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
