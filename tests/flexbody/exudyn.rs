@@ -2,7 +2,8 @@
 //! flexbody.
 
 use super::support::{
-    hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, skip_without_peer,
+    hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, run_script,
+    skip_without_peer,
 };
 use flexbody::fem::{Dof, DofKind};
 use flexbody::reduce::{Method, ReducedBody};
@@ -24,7 +25,6 @@ use std::path::PathBuf;
 /// files are kept there (see [`write_exudyn_data`]).
 #[test]
 fn exudyn_agrees_with_flexbody() {
-    use std::process::Command;
     if let Err(why) = python_imports("exudyn, numpy, scipy") {
         skip_without_peer(
             "exudyn_agrees_with_flexbody",
@@ -37,22 +37,7 @@ fn exudyn_agrees_with_flexbody() {
         .map(PathBuf::from)
         .unwrap_or_else(|| temporary.path().to_path_buf());
     write_exudyn_data(&dir);
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/exudyn_check.py");
-    let out = Command::new("python3")
-        .arg(&script)
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let log = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    eprintln!("exudyn_agrees_with_flexbody:\n{log}");
-    assert!(
-        out.status.success(),
-        "scripts/exudyn_check.py failed:\n{log}"
-    );
+    run_script("exudyn_check.py", &[&dir]);
 }
 
 /// Writes what `scripts/exudyn_check.py` reads into `dir`: `body.sid`

@@ -43,6 +43,27 @@ pub(crate) fn python_imports(modules: &str) -> Result<(), String> {
     }
 }
 
+/// Runs `scripts/<script>` with `python3` and `args`, expecting success:
+/// its standard output and error, which it also shows on stderr.
+pub(crate) fn run_script<S: AsRef<OsStr>>(script: &str, args: &[S]) -> String {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scripts")
+        .join(script);
+    let out = Command::new("python3")
+        .arg(&path)
+        .args(args)
+        .output()
+        .unwrap();
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("scripts/{script}:\n{log}");
+    assert!(out.status.success(), "scripts/{script} failed:\n{log}");
+    log
+}
+
 /// Runs the `flexbody` binary with `args`.
 pub(crate) fn flexbody<S: AsRef<OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_flexbody"))

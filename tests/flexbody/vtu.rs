@@ -5,7 +5,7 @@
 
 use super::support::{
     fails_with, hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok,
-    skip_without_peer,
+    run_script, skip_without_peer,
 };
 use flexbody::export::vtk;
 use flexbody::export::vtu::Encoding;
@@ -257,30 +257,14 @@ fn binary_vtu_decodes_to_the_ascii_arrays() {
 /// [`peers_required`](super::support::peers_required).
 #[test]
 fn binary_vtu_reads_in_meshio_as_the_ascii_one() {
-    use std::process::Command;
     if python_imports("meshio").is_err() {
         skip_without_peer("binary_vtu_reads_in_meshio_as_the_ascii_one", "meshio");
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/vtu_compare.py");
     for (binary, ascii) in both_models(dir.path()) {
-        let out = Command::new("python3")
-            .arg(&script)
-            .args([&ascii, &binary])
-            .output()
-            .unwrap();
-        let log = format!(
-            "{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        eprintln!("{}: {log}", binary.display());
-        assert!(
-            out.status.success(),
-            "scripts/vtu_compare.py failed:\n{log}"
-        );
-        assert!(log.contains("arrays agree"), "{log}");
+        let log = run_script("vtu_compare.py", &[&ascii, &binary]);
+        assert!(log.contains("arrays agree"), "{}: {log}", binary.display());
     }
 }
 

@@ -117,14 +117,7 @@ impl ModelParts {
 
     /// The checked model ([`Model::new`], then the couplings).
     pub fn build(self) -> Result<Model, FemError> {
-        Model::assemble(
-            self.nodes,
-            self.elements,
-            self.node_sets,
-            self.fixed,
-            self.rayleigh,
-            self.couplings,
-        )
+        Model::assemble(self)
     }
 }
 
@@ -150,18 +143,26 @@ impl Model {
         fixed: Vec<Dof>,
         rayleigh: Option<Rayleigh>,
     ) -> Result<Self, FemError> {
-        Self::assemble(nodes, elements, node_sets, fixed, rayleigh, Vec::new())
+        Self::assemble(ModelParts {
+            nodes,
+            elements,
+            node_sets,
+            fixed,
+            rayleigh,
+            couplings: Vec::new(),
+        })
     }
 
     /// Builds and checks a model with its couplings, its DOF map built once.
-    fn assemble(
-        nodes: Vec<Node>,
-        elements: Vec<Element>,
-        node_sets: BTreeMap<String, Vec<NodeId>>,
-        fixed: Vec<Dof>,
-        rayleigh: Option<Rayleigh>,
-        couplings: Vec<Coupling>,
-    ) -> Result<Self, FemError> {
+    fn assemble(parts: ModelParts) -> Result<Self, FemError> {
+        let ModelParts {
+            nodes,
+            elements,
+            node_sets,
+            fixed,
+            rayleigh,
+            couplings,
+        } = parts;
         let mut node_index = id_map(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
             if node_index.insert(n.id, i).is_some() {
