@@ -78,10 +78,10 @@ static FIXTURES: [Fixture; 6] = [
 /// `|a - b| / sqrt(b_ii b_jj)` at most 5.9e-15 on those below it (small
 /// entries from cancellation, zeros in one program and round-off in the
 /// other). The largest ratio to the allowance is 0.30.
-const MATRIX_RTOL: f64 = 2e-13;
+pub(crate) const MATRIX_RTOL: f64 = 2e-13;
 /// See [`MATRIX_RTOL`]: the absolute floor, relative to the row and column
 /// scale `sqrt(b_ii b_jj)`.
-const MATRIX_ATOL: f64 = 2e-14;
+pub(crate) const MATRIX_ATOL: f64 = 2e-14;
 /// Largest relative difference of elastic frequencies.
 const FREQUENCY_TOLERANCE: f64 = 1e-6;
 
@@ -89,18 +89,18 @@ fn fixture(name: &str) -> &'static Fixture {
     FIXTURES.iter().find(|f| f.name == name).unwrap()
 }
 
-fn fixture_dir(name: &str) -> PathBuf {
+pub(crate) fn fixture_dir(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/calculix")
         .join(name)
 }
 
-fn ccx_matrices(name: &str) -> MatrixModel {
+pub(crate) fn ccx_matrices(name: &str) -> MatrixModel {
     read_calculix_matrices(&fixture_dir(name).join(name))
         .unwrap_or_else(|e| panic!("{name}: CalculiX matrices: {e}"))
 }
 
-fn ccx_frequencies(name: &str) -> Vec<f64> {
+pub(crate) fn ccx_frequencies(name: &str) -> Vec<f64> {
     let path = fixture_dir(name).join("frequencies.txt");
     let text = std::fs::read_to_string(&path).unwrap();
     text.split_whitespace()
@@ -144,7 +144,7 @@ fn compare_frequencies(what: &str, fixture: &Fixture, ours: &[f64], ccx: &[f64])
 /// `|a - b| / |b|` over entries above the absolute floor and the largest
 /// `|a - b| / sqrt(b_ii b_jj)` over those below it, or lists the entries
 /// that fail.
-fn compare_matrix(
+pub(crate) fn compare_matrix(
     what: &str,
     ours: &SparseMat,
     ccx: &SparseMat,

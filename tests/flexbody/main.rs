@@ -2,10 +2,12 @@
 //! is also an example of the API.
 
 mod calculix;
+mod calculix_constraints;
 mod cli;
 mod cli_errors;
 mod cli_lowest_below;
 mod cli_modes;
+mod deck_steps;
 mod decks;
 mod errors;
 mod exchange;

@@ -5,6 +5,7 @@
 //! Units are SI throughout: m, kg, s, N, Pa, rad.
 
 pub mod assembly;
+pub mod constraint;
 pub mod coupling;
 pub mod dof;
 pub mod element;
@@ -15,6 +16,7 @@ pub mod section;
 pub mod substructure;
 
 pub use assembly::{assemble, SystemMatrices};
+pub use constraint::{Equation, MpcKind};
 pub use coupling::{Coupling, CouplingKind};
 pub use dof::{Dof, DofKind, DofMap};
 pub use element::{Element, ElementMatrices, SectionForces};
@@ -61,6 +63,8 @@ pub enum FemError {
     InvalidElement { element: usize, reason: String },
     #[error("coupling '{name}': {reason}")]
     InvalidCoupling { name: String, reason: String },
+    #[error("constraint {name}: {reason}")]
+    InvalidConstraint { name: String, reason: String },
     #[error("the model has no DOFs")]
     Empty,
     #[error(transparent)]

@@ -1,6 +1,7 @@
 //! The FE model of one component: nodes, elements, node sets, boundary
-//! conditions and Rayleigh damping.
+//! conditions, couplings, linear constraints and Rayleigh damping.
 
+use crate::constraint::Equation;
 use crate::coupling::{Constraints, Coupling};
 use crate::dof::{Dof, DofKind, DofMap};
 use crate::element::Element;
@@ -59,7 +60,9 @@ pub struct Model {
     fixed: BTreeSet<Dof>,
     rayleigh: Option<Rayleigh>,
     couplings: Vec<Coupling>,
-    /// Dependent DOFs of the couplings, eliminated from the DOF map.
+    equations: Vec<Equation>,
+    /// Dependent DOFs of the couplings and equations as combinations of
+    /// free DOFs, eliminated from the DOF map.
     constraints: Constraints,
     dof_map: DofMap,
 }
@@ -86,6 +89,7 @@ pub struct ModelParts {
     fixed: Vec<Dof>,
     rayleigh: Option<Rayleigh>,
     couplings: Vec<Coupling>,
+    equations: Vec<Equation>,
 }
 
 impl ModelParts {
@@ -115,6 +119,12 @@ impl ModelParts {
         Self { couplings, ..self }
     }
 
+    /// Linear constraints among DOFs ([`Equation`]): each eliminates its
+    /// first DOF.
+    pub fn equations(self, equations: Vec<Equation>) -> Self {
+        Self { equations, ..self }
+    }
+
     /// The checked model ([`Model::new`], then the couplings).
     pub fn build(self) -> Result<Model, FemError> {
         Model::assemble(self)
@@ -132,6 +142,7 @@ impl Model {
             fixed: Vec::new(),
             rayleigh: None,
             couplings: Vec::new(),
+            equations: Vec::new(),
         }
     }
 
@@ -150,6 +161,7 @@ impl Model {
             fixed,
             rayleigh,
             couplings: Vec::new(),
+            equations: Vec::new(),
         })
     }
 
@@ -162,6 +174,7 @@ impl Model {
             fixed,
             rayleigh,
             couplings,
+            equations,
         } = parts;
         let mut node_index = id_map(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
@@ -210,6 +223,7 @@ impl Model {
             fixed: fixed.into_iter().collect(),
             rayleigh,
             couplings,
+            equations,
             constraints: Constraints::new(),
             dof_map: DofMap::default(),
         };
@@ -231,6 +245,11 @@ impl Model {
     /// The couplings of the model.
     pub fn couplings(&self) -> &[Coupling] {
         &self.couplings
+    }
+
+    /// The linear constraints of the model, as given.
+    pub fn equations(&self) -> &[Equation] {
+        &self.equations
     }
 
     /// Free DOFs: those the stiffness-carrying elements and coupling points
@@ -281,9 +300,14 @@ impl Model {
                 });
             }
         }
-        // Coupling constraints.
+        // Coupling constraints, then the equations; chains resolved.
         let mut constraints = Constraints::new();
         let mut owner: std::collections::HashMap<Dof, String> = std::collections::HashMap::new();
+        let exists = |d: &Dof| {
+            self.node_index
+                .get(&d.node)
+                .is_some_and(|&i| active.contains(&(i, d.kind)))
+        };
         {
             let coords = |n: NodeId| self.node_index.get(&n).map(|&i| self.nodes[i].coords);
             let kinds = |n: NodeId| -> Vec<DofKind> {
@@ -305,7 +329,7 @@ impl Model {
                             reason: format!("{dof} is both fixed and coupled"),
                         });
                     }
-                    owner.insert(dof, c.name.clone());
+                    owner.insert(dof, format!("coupling '{}'", c.name));
                     if constraints.insert(dof, terms).is_some() {
                         return Err(FemError::InvalidCoupling {
                             name: c.name.clone(),
@@ -314,17 +338,41 @@ impl Model {
                     }
                 }
             }
-            for (dof, terms) in &constraints {
-                if let Some((t, _)) = terms.iter().find(|(t, _)| constraints.contains_key(t)) {
-                    return Err(FemError::InvalidCoupling {
-                        name: owner.get(dof).cloned().unwrap_or_default(),
-                        reason: format!(
-                            "{dof} depends on {t}, which is itself coupled (chained couplings)"
-                        ),
-                    });
+        }
+        for e in &self.equations {
+            let (dof, terms) = e.solved()?;
+            let bad = |reason: String| FemError::InvalidConstraint {
+                name: e.name.clone(),
+                reason,
+            };
+            for d in std::iter::once(&dof).chain(terms.iter().map(|(d, _)| d)) {
+                if !self.node_index.contains_key(&d.node) {
+                    return Err(bad(format!("node {} does not exist", d.node)));
+                }
+                if !exists(d) {
+                    return Err(bad(format!(
+                        "{d} is not a DOF of the model (no element gives node {} that DOF; \
+                         solid nodes have no rotations)",
+                        d.node
+                    )));
                 }
             }
+            if self.fixed.contains(&dof) {
+                return Err(bad(format!(
+                    "its dependent (first) DOF {dof} is also fixed by a boundary condition; \
+                     list another DOF first"
+                )));
+            }
+            if let Some(other) = owner.get(&dof) {
+                return Err(bad(format!(
+                    "its dependent (first) DOF {dof} is already eliminated by {other} \
+                     (over-constrained); list another DOF first"
+                )));
+            }
+            owner.insert(dof, e.name.clone());
+            constraints.insert(dof, terms);
         }
+        let constraints = crate::constraint::resolve(constraints, &owner, &self.fixed)?;
         let dofs: Vec<Dof> = active
             .iter()
             .map(|(i, k)| Dof::new(self.nodes[i].id, k))

@@ -4,6 +4,7 @@
 //! element, node or boundary condition.
 
 use super::cards::{Files, Loc};
+use super::constraints;
 use super::keywords::{property_keyword, Reader};
 use super::properties::{spring_properties, RawSection, SectionData, SpringProperties};
 use crate::InputError;
@@ -36,6 +37,11 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         mut warnings,
         surfaces,
         couplings,
+        equations,
+        mpcs,
+        rigid_bodies,
+        distributing,
+        dcoup,
         ..
     } = reader;
 
@@ -55,7 +61,10 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
     }
     for set in &element_set_order {
         let entries = element_sets.get(set).map_or(&[][..], Vec::as_slice);
-        if let Some((e, loc)) = entries.iter().find(|(e, _)| !element_index.contains_key(e)) {
+        if let Some((e, loc)) = entries
+            .iter()
+            .find(|(e, _)| !element_index.contains_key(e) && !dcoup.contains_key(e))
+        {
             return Err(files.error(
                 *loc,
                 format!("element set '{set}' refers to element {e}, which is not defined"),
@@ -134,6 +143,25 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         elements.push(element);
     }
 
+    // A rigid body's rotational node stands for its reference node's
+    // rotations (CalculiX): its fixed translations fix those.
+    let rotation_nodes: HashMap<NodeId, NodeId> = rigid_bodies
+        .iter()
+        .filter_map(|r| r.rotation.map(|n| (n, r.reference)))
+        .collect();
+    let fixed: Vec<(Dof, Loc)> = fixed
+        .into_iter()
+        .map(|(d, loc)| match rotation_nodes.get(&d.node) {
+            Some(&reference) if d.kind.index() < 3 => {
+                (Dof::new(reference, DofKind::ALL[d.kind.index() + 3]), loc)
+            }
+            _ => (d, loc),
+        })
+        .collect();
+    let mut reference_points: Vec<NodeId> = couplings.iter().map(|c| c.point).collect();
+    reference_points.extend(rigid_bodies.iter().map(|r| r.reference));
+    reference_points.extend(dcoup.values().map(|(n, _)| *n));
+
     // Fixed DOFs: only those an element or a coupling's reference node
     // creates (CalculiX also ignores rotations fixed on nodes of solid
     // elements).
@@ -147,9 +175,9 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         })
         .flat_map(Element::dofs)
         .collect();
-    for c in &couplings {
-        if fixed_nodes.contains(&c.point) {
-            active.extend(DofKind::ALL.map(|k| Dof::new(c.point, k)));
+    for p in &reference_points {
+        if fixed_nodes.contains(p) {
+            active.extend(DofKind::ALL.map(|k| Dof::new(*p, k)));
         }
     }
     let mut kept = Vec::with_capacity(fixed.len());
@@ -208,10 +236,39 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
             weights: None,
         });
     }
+    let mut constraint_loc = HashMap::new();
+    constraints::rigid_bodies(
+        files,
+        &rigid_bodies,
+        &node_sets,
+        &element_sets,
+        &elements,
+        &mut coupled,
+        &mut coupling_loc,
+    )?;
+    constraints::distributing(
+        files,
+        &distributing,
+        &dcoup,
+        &node_sets,
+        &element_sets,
+        &mut coupled,
+        &mut coupling_loc,
+    )?;
+    let coords: HashMap<NodeId, [f64; 3]> = nodes.iter().map(|n| (n.id, n.coords)).collect();
+    let equations = constraints::equations(
+        files,
+        &equations,
+        &mpcs,
+        &coords,
+        &rotation_nodes,
+        &mut constraint_loc,
+    )?;
     let model = Model::of(nodes, elements)
         .node_sets(node_sets)
         .fixed(kept)
         .couplings(coupled)
+        .equations(equations)
         .build()
         .map_err(|err| {
             let loc = match &err {
@@ -224,6 +281,10 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                     .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
                     .map(|e| e.loc),
                 FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
+                FemError::InvalidConstraint { name, .. } => constraint_loc
+                    .get(name)
+                    .or_else(|| coupling_loc.get(name))
+                    .copied(),
                 _ => None,
             };
             files.error_near(loc, err.to_string())

@@ -7,6 +7,7 @@
 
 use super::cards::{is_numeric, name, Card, DataLine, Files, Loc};
 use super::known::{nearest_known, IGNORED, REFUSED};
+use super::steps::StepAction;
 use super::unknown::{DeckOptions, UnknownKeywords};
 use crate::InputError;
 use flexbody_fem::element::{element_types, ElementType, SectionKind};
@@ -106,12 +107,18 @@ pub(super) struct Reader<'a> {
     /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
     pub surfaces: BTreeMap<String, Vec<NodeId>>,
     pub couplings: Vec<DeckCoupling>,
+    pub equations: Vec<super::constraints::RawEquation>,
+    pub mpcs: Vec<super::constraints::RawMpc>,
+    pub rigid_bodies: Vec<super::constraints::RawRigidBody>,
+    pub distributing: Vec<super::constraints::RawDistributing>,
+    /// DCOUP3D elements: id -> (reference node, line).
+    pub dcoup: BTreeMap<usize, (NodeId, Loc)>,
     /// Unknown keywords skipped under `allow_unknown`.
     pub unknown: UnknownKeywords,
     options: DeckOptions,
     warned: HashSet<String>,
     pub(super) current_material: Option<usize>,
-    in_step: bool,
+    steps: super::steps::Steps,
     instances: usize,
 }
 
@@ -134,6 +141,11 @@ impl<'a> Reader<'a> {
             skipped: Vec::new(),
             surfaces: BTreeMap::new(),
             couplings: Vec::new(),
+            equations: Vec::new(),
+            mpcs: Vec::new(),
+            rigid_bodies: Vec::new(),
+            distributing: Vec::new(),
+            dcoup: BTreeMap::new(),
             unknown: UnknownKeywords {
                 deck: files.paths[0].clone(),
                 keywords: Vec::new(),
@@ -141,7 +153,7 @@ impl<'a> Reader<'a> {
             options,
             warned: HashSet::new(),
             current_material: None,
-            in_step: false,
+            steps: super::steps::Steps::default(),
             instances: 0,
         }
     }
@@ -150,6 +162,10 @@ impl<'a> Reader<'a> {
     pub fn read(&mut self, cards: &[Card]) -> Result<(), InputError> {
         for card in cards {
             let k = card.keyword.as_str();
+            if let StepAction::AfterFrequency = self.steps.see(self.files, card)? {
+                self.after_frequency(card);
+                continue;
+            }
             if !MATERIAL_OPTIONS.contains(&k) {
                 self.current_material = None;
             }
@@ -170,6 +186,10 @@ impl<'a> Reader<'a> {
                 "SURFACE" => self.surface(card)?,
                 "COUPLING" => self.coupling(card)?,
                 "KINEMATIC" | "DISTRIBUTING" => self.coupling_kind(card)?,
+                "EQUATION" => self.equation(card)?,
+                "MPC" => self.mpc(card)?,
+                "RIGIDBODY" => self.rigid_body(card)?,
+                "DISTRIBUTINGCOUPLING" => self.distributing_coupling(card)?,
                 _ => {
                     if let Some((_, what)) = REFUSED.iter().find(|(r, _)| *r == k) {
                         return Err(self.files.error(
@@ -180,11 +200,6 @@ impl<'a> Reader<'a> {
                             ),
                         ));
                     }
-                    match k {
-                        "STEP" => self.in_step = true,
-                        "ENDSTEP" => self.in_step = false,
-                        _ => {}
-                    }
                     if IGNORED.contains(&k) {
                         self.warn_once(card, "");
                     } else {
@@ -194,6 +209,25 @@ impl<'a> Reader<'a> {
             }
         }
         Ok(())
+    }
+
+    /// A boundary condition, load or step after the first frequency step:
+    /// skipped, and the first of them reported.
+    fn after_frequency(&mut self, card: &Card) {
+        if !matches!(card.keyword.as_str(), "STEP" | "ENDSTEP")
+            && self.warned.insert("after the frequency step".into())
+        {
+            let at = self
+                .steps
+                .done
+                .map_or_else(String::new, |l| self.files.describe(l));
+            self.warnings.push(format!(
+                "{} ({}) and the boundary conditions, loads and steps after the first frequency \
+                 step (*FREQUENCY on {at}): they do not change the model of that step",
+                card.display,
+                self.files.describe(card.loc)
+            ));
+        }
     }
 
     /// An unknown keyword: refused, naming the nearest known keyword when
@@ -310,6 +344,9 @@ impl<'a> Reader<'a> {
             ));
         }
         let type_name = card.require_name(self.files, "TYPE")?;
+        if type_name == "DCOUP3D" {
+            return self.dcoup3d(card);
+        }
         let kind = ElementType::find(&type_name).ok_or_else(|| {
             let supported: Vec<&str> = element_types().map(|t| t.name).collect();
             self.error(
@@ -373,6 +410,36 @@ impl<'a> Reader<'a> {
             });
             if let Some(set) = &set {
                 self.add_element_set_entries(set.clone(), [(id, first.loc)]);
+            }
+        }
+        Ok(())
+    }
+
+    /// DCOUP3D elements: `id, reference node` (of a `*DISTRIBUTING
+    /// COUPLING`).
+    fn dcoup3d(&mut self, card: &Card) -> Result<(), InputError> {
+        let set = card.value("ELSET").map(name);
+        for line in &card.data {
+            let id = line.id(self.files, 0, "element number")? as usize;
+            let node = line.id(self.files, 1, &format!("element {id} (DCOUP3D): node"))?;
+            if line.fields.iter().skip(2).any(|f| !f.is_empty()) {
+                return Err(self.error(
+                    line.loc,
+                    format!("element {id}: a DCOUP3D element has one node"),
+                ));
+            }
+            if let Some(previous) = self.element_loc.insert(id, line.loc) {
+                return Err(self.error(
+                    line.loc,
+                    format!(
+                        "element {id} is defined twice (first on {})",
+                        self.files.describe(previous)
+                    ),
+                ));
+            }
+            self.dcoup.insert(id, (node, line.loc));
+            if let Some(set) = &set {
+                self.add_element_set_entries(set.clone(), [(id, line.loc)]);
             }
         }
         Ok(())
@@ -520,7 +587,7 @@ impl<'a> Reader<'a> {
                 ));
             }
         }
-        if self.in_step
+        if self.steps.in_step
             && card
                 .value("OP")
                 .is_some_and(|v| v.eq_ignore_ascii_case("NEW"))

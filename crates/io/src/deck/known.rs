@@ -23,6 +23,10 @@ pub(super) const READ: &[&str] = &[
     "KINEMATIC",
     "DISTRIBUTING",
     "INCLUDE",
+    "EQUATION",
+    "MPC",
+    "RIGID BODY",
+    "DISTRIBUTING COUPLING",
 ];
 
 /// Keywords skipped with a warning: they do not change the stiffness or
@@ -98,15 +102,8 @@ pub(super) const IGNORED: &[&str] = &[
 /// Keywords refused because ignoring them would change the model, with
 /// what they would change.
 pub(super) const REFUSED: &[(&str, &str)] = &[
-    ("EQUATION", "stiffness matrix (constraints between DOFs)"),
-    ("MPC", "stiffness matrix (constraints between DOFs)"),
-    ("RIGIDBODY", "stiffness matrix (constraints between DOFs)"),
     (
         "KINEMATICCOUPLING",
-        "stiffness matrix (constraints between DOFs)",
-    ),
-    (
-        "DISTRIBUTINGCOUPLING",
         "stiffness matrix (constraints between DOFs)",
     ),
     ("TIE", "stiffness matrix (constraints between DOFs)"),
@@ -139,6 +136,11 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
     ("NCOPY", "model (it creates nodes)"),
     ("ELGEN", "model (it creates elements)"),
     ("ELCOPY", "model (it creates elements)"),
+    (
+        "MATRIXASSEMBLE",
+        "stiffness and mass matrices (user matrices added to them)",
+    ),
+    ("MATRIXINPUT", "stiffness and mass matrices (user matrices)"),
 ];
 
 /// The known keyword nearest to `keyword` (upper case, no spaces), as it

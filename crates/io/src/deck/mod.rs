@@ -24,9 +24,14 @@
 //! | `*MASS, ELSET=` | mass (kg) of MASS elements |
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
 //! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces are skipped with a warning; a MASS element or `*BOUNDARY` may sit on the reference node |
-//! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning; a coupling's reference node has all six |
+//! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps up to the first frequency step (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning; a coupling's reference node has all six |
+//! | `*EQUATION` | `count`, then `node, DOF, coefficient` triples (up to four a line); the first term's DOF is eliminated, exactly ([`flexbody_fem::Equation`]); nodes are numbers or one-node sets |
+//! | `*MPC` | PLANE (first three nodes the plane, the others held in it), STRAIGHT (first two the line), BEAM (constant distance), linearised as CalculiX's ([`flexbody_fem::MpcKind`]); one MPC a card, node sets allowed |
+//! | `*RIGID BODY, REF NODE=, NSET= or ELSET=[, ROT NODE=]` | a rigid coupling of the reference node (6 DOFs) to the members; a `*BOUNDARY` on the ROT NODE's translations fixes the reference node's rotations |
+//! | `*DISTRIBUTING COUPLING, ELSET=` + a DCOUP3D element | a distributing coupling (RBE3) of the element's node to the listed nodes or node sets with their weights |
+//! | steps | the model is the one of the first `*FREQUENCY` step: `*BOUNDARY` and loads of later steps are skipped with one warning; a `*STEP, PERTURBATION` frequency step after a step with loads (`*CLOAD`, `*DLOAD`, `*DSLOAD`, `*TEMPERATURE`) is refused: CalculiX adds the preload's stress stiffening there |
 //! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K or M of the linear model |
-//! | `*EQUATION`, `*MPC`, `*RIGID BODY`, `*KINEMATIC COUPLING`, `*DISTRIBUTING COUPLING`, `*TIE`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
+//! | `*KINEMATIC COUPLING`, `*TIE`, `*MATRIX ASSEMBLE`, `*MATRIX INPUT`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
 //! Errors name the file and line that is wrong (an included file's own line)
@@ -39,9 +44,11 @@
 mod build;
 mod cards;
 mod catalogue;
+mod constraints;
 mod keywords;
 mod known;
 mod properties;
+mod steps;
 #[cfg(test)]
 mod tests;
 mod unknown;

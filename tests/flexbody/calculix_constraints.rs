@@ -1,0 +1,130 @@
+//! Constraints against CalculiX 2.20: `*EQUATION`, `*MPC` (PLANE, STRAIGHT,
+//! BEAM), `*RIGID BODY` and `*DISTRIBUTING COUPLING` (DCOUP3D) on a clamped
+//! C3D8 bar, from the fixtures of `scripts/calculix_fixtures.py` (decks,
+//! ccx's K and M over its independent DOFs, and its frequencies).
+//!
+//! flexbody eliminates each constraint's dependent DOFs exactly and must
+//! give CalculiX's frequencies to 1e-6 (ccx prints 7 digits; its ARPACK
+//! carries ~4e-7), and the frequencies of CalculiX's own K and M to 1e-9.
+//! Where both eliminate the same DOFs (`*EQUATION`: the first term of each
+//! equation), K and M must agree entry by entry as in `calculix.rs`.
+
+use super::calculix::{
+    ccx_frequencies, ccx_matrices, compare_matrix, fixture_dir, MATRIX_ATOL, MATRIX_RTOL,
+};
+use flexbody::fem::{assemble, Dof, DofKind, Model};
+use flexbody::io::deck::read_deck;
+use flexbody::reduce::modes::{eigenmodes, Wanted};
+
+/// flexbody's model of fixture `name`, read from its deck.
+fn model(name: &str) -> Model {
+    let path = fixture_dir(name).join(format!("{name}.inp"));
+    read_deck(&path, &Default::default())
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .model
+}
+
+/// The lowest `n` frequencies (Hz) of a model.
+fn frequencies(model: &Model, n: usize) -> Vec<f64> {
+    let s = assemble(model).unwrap();
+    eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(n))
+        .unwrap()
+        .frequencies_hz()
+}
+
+/// flexbody's frequencies of `name` against ccx's printed ones (1e-6) and
+/// against an exact solve of ccx's K and M (1e-9).
+fn frequencies_match(name: &str) -> Model {
+    let model = model(name);
+    let printed = ccx_frequencies(name);
+    let ours = frequencies(&model, printed.len());
+    let ccx = ccx_matrices(name);
+    let exact = eigenmodes(&ccx.stiffness, &ccx.mass, Wanted::Lowest(printed.len()))
+        .unwrap()
+        .frequencies_hz();
+    for (mode, ((a, b), c)) in ours.iter().zip(&printed).zip(&exact).enumerate() {
+        let printed_rel = (a - b).abs() / b;
+        let exact_rel = (a - c).abs() / c;
+        assert!(
+            printed_rel <= 1e-6 && exact_rel <= 1e-9,
+            "{name}: mode {} is {a} Hz; CalculiX prints {b} Hz ({printed_rel:.1e}), its K and M give \
+             {c} Hz ({exact_rel:.1e})",
+            mode + 1
+        );
+    }
+    eprintln!(
+        "{name}: {} frequencies agree with CalculiX's; ours {ours:?}",
+        ours.len()
+    );
+    model
+}
+
+#[test]
+fn equations_match_calculix_matrix_by_matrix() {
+    let model = frequencies_match("equation_bar");
+    // Both programs eliminate the first DOF of each equation: the same
+    // independent DOFs, and the same K and M.
+    let ours = assemble(&model).unwrap();
+    let ccx = ccx_matrices("equation_bar");
+    assert_eq!(model.dof_map().len(), ccx.dof_map.len());
+    let to_ours: Vec<usize> = ccx
+        .dof_map
+        .dofs()
+        .iter()
+        .map(|d| model.dof_map().index_of(*d).expect("a DOF of both"))
+        .collect();
+    for (what, a, b) in [
+        ("K", &ours.stiffness, &ccx.stiffness),
+        ("M", &ours.mass, &ccx.mass),
+    ] {
+        let (relative, scaled) = compare_matrix(what, a, b, &to_ours, &ccx)
+            .unwrap_or_else(|report| panic!("equation_bar {report}"));
+        eprintln!(
+            "equation_bar {what}: largest |a - b| / |b| {relative:.1e} (allowed {MATRIX_RTOL:e}), \
+             below the floor {scaled:.1e} (allowed {MATRIX_ATOL:e})"
+        );
+    }
+    // The tip face's uz are one: the equations hold in every mode.
+    let s = assemble(&model).unwrap();
+    let modes = eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(4)).unwrap();
+    let tip: Vec<u64> = model
+        .nodes()
+        .iter()
+        .filter(|n| (n.coords[0] - 0.6).abs() < 1e-12)
+        .map(|n| n.id)
+        .collect();
+    for k in 0..4 {
+        let u: Vec<f64> = (0..model.dof_map().len())
+            .map(|i| modes.vectors[(i, k)])
+            .collect();
+        let uz: Vec<f64> = tip
+            .iter()
+            .map(|n| model.value(Dof::new(*n, DofKind::Uz), &u))
+            .collect();
+        for w in &uz {
+            assert!(
+                (w - uz[0]).abs() <= 1e-12 * uz[0].abs().max(1e-300),
+                "{uz:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn plane_straight_and_beam_mpcs_match_calculix() {
+    frequencies_match("mpc_bar");
+}
+
+#[test]
+fn a_rigid_body_with_a_point_mass_matches_calculix() {
+    let model = frequencies_match("rigid_body_bar");
+    // The reference node carries the face: six DOFs, the face's none.
+    for k in DofKind::ALL {
+        assert!(model.dof_map().index_of(Dof::new(9001, k)).is_some());
+    }
+}
+
+#[test]
+fn a_distributing_coupling_matches_calculix() {
+    frequencies_match("distributing_bar");
+}
