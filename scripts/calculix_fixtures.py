@@ -248,12 +248,52 @@ def constraint_distributing(mesh, elements):
     }
 
 
+def constraint_tie(mesh, elements):
+    """*TIE of a second, finer block (x from lx to 2 lx, 4 x 3 x 3 C3D8,
+    numbered from 10001) to the bar's far face: slave the block's face S6,
+    master the bar's faces S4; non-matching nodes."""
+    lx, ly, lz = mesh.size
+    n = (4, 3, 3)
+    ids = {}
+    nodes = []
+    for k in range(n[2] + 1):
+        for j in range(n[1] + 1):
+            for i in range(n[0] + 1):
+                ids[(i, j, k)] = 10001 + len(ids)
+                x = (lx + lx * i / n[0], ly * j / n[1], lz * k / n[2])
+                nodes.append(f"{ids[(i, j, k)]}, {round(x[0], 12)!r}, {round(x[1], 12)!r}, {round(x[2], 12)!r}")
+    cells = []
+    for k in range(n[2]):
+        for j in range(n[1]):
+            for i in range(n[0]):
+                cells.append([ids[(i + a, j + b, k + c)] for a, b, c in HEX_CORNERS])
+    block = ["*ELEMENT, TYPE=C3D8, ELSET=EB"]
+    block += [f"{10001 + e}, " + ", ".join(map(str, c)) for e, c in enumerate(cells)]
+    slave = [10001 + e for e, _ in enumerate(cells) if e % n[0] == 0]
+    master = [number for number, ids_ in enumerate(elements, start=1)
+              if all(mesh.used[i][0] >= 2 * mesh.n[0] - 2 for i in ids_)]
+    return {
+        "nodes": nodes,
+        "elements": block,
+        "model": [
+            "*SOLID SECTION, ELSET=EB, MATERIAL=STEEL",
+            "*ELSET, ELSET=SLAVEELEMENTS", ", ".join(map(str, slave)),
+            "*ELSET, ELSET=MASTERELEMENTS", ", ".join(map(str, master)),
+            "*SURFACE, NAME=SLAVE, TYPE=ELEMENT", "SLAVEELEMENTS, S6",
+            "*SURFACE, NAME=MASTER, TYPE=ELEMENT", "MASTERELEMENTS, S4",
+            "*TIE, NAME=JOINT", "SLAVE, MASTER",
+        ],
+    }
+
+
 CLAMPED_BAR = ("C3D8", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: hex_elements(m, False), True, 10)
 CUSTOM.update({
     "equation_bar": (CLAMPED_BAR, constraint_equations),
     "mpc_bar": (CLAMPED_BAR, constraint_mpcs),
     "rigid_body_bar": (CLAMPED_BAR, constraint_rigid_body),
     "distributing_bar": (CLAMPED_BAR, constraint_distributing),
+    "tie_blocks": (("C3D8", (3, 2, 2), (0.3, 0.1, 0.1), lambda m: hex_elements(m, False), True, 10),
+                   constraint_tie),
 })
 
 

@@ -14,6 +14,7 @@ pub mod mesh;
 pub mod model;
 pub mod section;
 pub mod substructure;
+pub mod tie;
 
 pub use assembly::{assemble, SystemMatrices};
 pub use constraint::{Equation, MpcKind};
@@ -23,6 +24,7 @@ pub use element::{Element, ElementMatrices, SectionForces};
 pub use model::{Model, ModelParts, Node, NodeId, Rayleigh, ValueTerms};
 pub use section::{BeamProperties, BeamTheory, Material, SectionShape};
 pub use substructure::{Substructure, Support};
+pub use tie::{Face, Tie};
 
 /// Errors in building or assembling a model. They name the element, node or
 /// DOF that is wrong (user ids, not internal indices).

@@ -42,6 +42,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         rigid_bodies,
         distributing,
         dcoup,
+        element_surfaces,
+        ties,
         ..
     } = reader;
 
@@ -256,7 +258,29 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &mut coupling_loc,
     )?;
     let coords: HashMap<NodeId, [f64; 3]> = nodes.iter().map(|n| (n.id, n.coords)).collect();
-    let equations = constraints::equations(
+    let tied = constraints::ties(
+        files,
+        &ties,
+        constraints::Surfaces {
+            nodes: &surfaces,
+            elements: &element_surfaces,
+        },
+        &element_sets,
+        &elements,
+        &coords,
+        &mut constraint_loc,
+    )?;
+    // ADJUST: slave nodes moved onto the master surface before assembly.
+    let mut nodes = nodes;
+    if !tied.moved.is_empty() {
+        let at: HashMap<NodeId, [f64; 3]> = tied.moved.into_iter().collect();
+        for n in &mut nodes {
+            if let Some(x) = at.get(&n.id) {
+                n.coords = *x;
+            }
+        }
+    }
+    let mut equations = constraints::equations(
         files,
         &equations,
         &mpcs,
@@ -264,6 +288,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &rotation_nodes,
         &mut constraint_loc,
     )?;
+    equations.extend(tied.equations);
     let model = Model::of(nodes, elements)
         .node_sets(node_sets)
         .fixed(kept)

@@ -7,7 +7,10 @@
 use super::cards::{is_numeric, name, Card, Files, Loc};
 use super::keywords::Reader;
 use crate::InputError;
-use flexbody_fem::{Coupling, CouplingKind, Dof, DofKind, Element, Equation, MpcKind, NodeId};
+use flexbody_fem::tie::TieEquations;
+use flexbody_fem::{
+    Coupling, CouplingKind, Dof, DofKind, Element, Equation, Face, MpcKind, NodeId,
+};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// One equation of an `*EQUATION` card: `(node, DOF, coefficient)` terms.
@@ -20,6 +23,16 @@ pub(super) struct RawEquation {
 pub(super) struct RawMpc {
     pub kind: MpcKind,
     pub nodes: Vec<NodeId>,
+    pub loc: Loc,
+}
+
+/// A `*TIE`: slave and master surface names.
+pub(super) struct RawTie {
+    pub name: String,
+    pub slave: String,
+    pub master: String,
+    pub tolerance: Option<f64>,
+    pub adjust: bool,
     pub loc: Loc,
 }
 
@@ -217,6 +230,69 @@ impl Reader<'_> {
             rotation,
             members,
             loc: card.loc,
+        });
+        Ok(())
+    }
+
+    /// `*TIE, NAME=[, POSITION TOLERANCE=][, ADJUST=YES|NO]`: one line
+    /// `slave surface, master surface`.
+    pub(super) fn tie(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["NAME", "POSITIONTOLERANCE", "ADJUST"]);
+        for p in [
+            "CYCLICSYMMETRY",
+            "MULTISTAGE",
+            "FLUIDPRESSURE",
+            "FLUIDCOUPLING",
+        ] {
+            if card.has(p) {
+                return Err(self
+                    .files
+                    .error(card.loc, format!("*TIE, {p}: only mesh tying is supported")));
+            }
+        }
+        let tie_name = card.require_name(self.files, "NAME")?;
+        let tolerance = match card.value("POSITIONTOLERANCE") {
+            None => None,
+            Some(v) => Some(
+                super::cards::parse_float(v)
+                    .filter(|t| t.is_finite() && *t >= 0.0)
+                    .ok_or_else(|| {
+                        self.files.error(
+                            card.loc,
+                            format!("*TIE: POSITION TOLERANCE should be a length >= 0, got '{v}'"),
+                        )
+                    })?,
+            ),
+        };
+        let adjust = match card.value("ADJUST").map(name).as_deref() {
+            None | Some("YES") => true,
+            Some("NO") => false,
+            Some(other) => {
+                return Err(self.files.error(
+                    card.loc,
+                    format!("*TIE: ADJUST={other}: YES or NO (a node set is not supported)"),
+                ))
+            }
+        };
+        let [line] = card.data.as_slice() else {
+            return Err(self.files.error(
+                card.loc,
+                "*TIE takes one data line: slave surface, master surface",
+            ));
+        };
+        let (Some(slave), Some(master)) = (line.get(0), line.get(1)) else {
+            return Err(self.files.error(
+                line.loc,
+                "*TIE: give the slave surface and the master surface",
+            ));
+        };
+        self.ties.push(RawTie {
+            name: tie_name,
+            slave: name(slave),
+            master: name(master),
+            tolerance,
+            adjust,
+            loc: line.loc,
         });
         Ok(())
     }
@@ -461,6 +537,129 @@ pub(super) fn equations(
             .map_err(|err| files.error(m.loc, err.to_string()))?;
         locs.insert(name, m.loc);
         out.extend(eqs);
+    }
+    Ok(out)
+}
+
+/// The faces of an element surface: their nodes in [`flexbody_fem::tie::solid_face`]
+/// order. Only solid elements have faces here.
+fn surface_faces(
+    files: &Files,
+    surface: &str,
+    entries: &[(String, usize, Loc)],
+    element_sets: &BTreeMap<String, Vec<usize>>,
+    elements: &HashMap<usize, &Element>,
+) -> Result<Vec<Face>, InputError> {
+    let mut faces = Vec::new();
+    for (target, face, loc) in entries {
+        let ids: Vec<usize> = if is_numeric(target) {
+            vec![super::cards::parse_id(target).ok_or_else(|| {
+                files.error(
+                    *loc,
+                    format!("*SURFACE {surface}: bad element number '{target}'"),
+                )
+            })? as usize]
+        } else {
+            element_sets.get(&name(target)).cloned().ok_or_else(|| {
+                files.error(
+                    *loc,
+                    format!(
+                        "*SURFACE {surface}: element set '{}' is not defined",
+                        name(target)
+                    ),
+                )
+            })?
+        };
+        for id in ids {
+            let Some(Element::Solid(solid)) = elements.get(&id).copied() else {
+                return Err(files.error(
+                    *loc,
+                    format!("*SURFACE {surface}: element {id} is not a solid element (ties join solid faces)"),
+                ));
+            };
+            let local = flexbody_fem::tie::solid_face(solid.kind, *face).ok_or_else(|| {
+                files.error(
+                    *loc,
+                    format!(
+                        "*SURFACE {surface}: a {} element has no face S{face}",
+                        solid.kind.name()
+                    ),
+                )
+            })?;
+            faces.push(Face {
+                nodes: local.iter().map(|&i| solid.nodes[i]).collect(),
+            });
+        }
+    }
+    Ok(faces)
+}
+
+/// The surfaces of a deck: node surfaces (name -> nodes) and element
+/// surfaces (name -> element or element set, face, line).
+pub(super) struct Surfaces<'a> {
+    pub nodes: &'a BTreeMap<String, Vec<NodeId>>,
+    pub elements: &'a BTreeMap<String, Vec<(String, usize, Loc)>>,
+}
+
+/// The `*TIE`s as equations (named `tie 'NAME'`, their line in `locs`),
+/// with the positions of the slave nodes they move (ADJUST).
+pub(super) fn ties(
+    files: &Files,
+    ties: &[RawTie],
+    surfaces: Surfaces<'_>,
+    element_sets: &BTreeMap<String, Vec<usize>>,
+    elements: &[Element],
+    coords: &HashMap<NodeId, [f64; 3]>,
+    locs: &mut HashMap<String, Loc>,
+) -> Result<TieEquations, InputError> {
+    let (node_surfaces, element_surfaces) = (surfaces.nodes, surfaces.elements);
+    let by_id: HashMap<usize, &Element> = elements.iter().map(|e| (e.id(), e)).collect();
+    let mut out = TieEquations::default();
+    for t in ties {
+        let slaves: Vec<NodeId> =
+            match (node_surfaces.get(&t.slave), element_surfaces.get(&t.slave)) {
+                (Some(nodes), _) => nodes.clone(),
+                (None, Some(entries)) => {
+                    let mut seen = HashSet::new();
+                    surface_faces(files, &t.slave, entries, element_sets, &by_id)?
+                        .into_iter()
+                        .flat_map(|f| f.nodes)
+                        .filter(|n| seen.insert(*n))
+                        .collect()
+                }
+                (None, None) => {
+                    return Err(files.error(
+                        t.loc,
+                        format!(
+                            "*TIE {}: slave surface '{}' is not defined",
+                            t.name, t.slave
+                        ),
+                    ))
+                }
+            };
+        let entries = element_surfaces.get(&t.master).ok_or_else(|| {
+            files.error(
+                t.loc,
+                format!(
+                    "*TIE {}: master surface '{}' is not defined as an element surface (*SURFACE, TYPE=ELEMENT)",
+                    t.name, t.master
+                ),
+            )
+        })?;
+        let master = surface_faces(files, &t.master, entries, element_sets, &by_id)?;
+        let tie = flexbody_fem::Tie {
+            name: t.name.clone(),
+            slaves,
+            master,
+            tolerance: t.tolerance,
+            adjust: t.adjust,
+        };
+        let made = tie
+            .equations(&|n| coords.get(&n).copied())
+            .map_err(|e| files.error(t.loc, e.to_string()))?;
+        locs.insert(format!("tie '{}'", t.name), t.loc);
+        out.equations.extend(made.equations);
+        out.moved.extend(made.moved);
     }
     Ok(out)
 }

@@ -106,6 +106,10 @@ pub(super) struct Reader<'a> {
     pub skipped: Vec<String>,
     /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
     pub surfaces: BTreeMap<String, Vec<NodeId>>,
+    /// Element-based surfaces: name -> (element or element set, face
+    /// number 1-6, line).
+    pub element_surfaces: BTreeMap<String, Vec<(String, usize, Loc)>>,
+    pub ties: Vec<super::constraints::RawTie>,
     pub couplings: Vec<DeckCoupling>,
     pub equations: Vec<super::constraints::RawEquation>,
     pub mpcs: Vec<super::constraints::RawMpc>,
@@ -140,6 +144,8 @@ impl<'a> Reader<'a> {
             warnings: Vec::new(),
             skipped: Vec::new(),
             surfaces: BTreeMap::new(),
+            element_surfaces: BTreeMap::new(),
+            ties: Vec::new(),
             couplings: Vec::new(),
             equations: Vec::new(),
             mpcs: Vec::new(),
@@ -190,6 +196,7 @@ impl<'a> Reader<'a> {
                 "MPC" => self.mpc(card)?,
                 "RIGIDBODY" => self.rigid_body(card)?,
                 "DISTRIBUTINGCOUPLING" => self.distributing_coupling(card)?,
+                "TIE" => self.tie(card)?,
                 _ => {
                     if let Some((_, what)) = REFUSED.iter().find(|(r, _)| *r == k) {
                         return Err(self.files.error(
@@ -673,28 +680,54 @@ impl<'a> Reader<'a> {
     /// Abaqus assemblies: one instance of one part without a transformation
     /// is the part itself.
     /// `*SURFACE, NAME=, TYPE=NODE`: node sets or node numbers (for
-    /// couplings); element-based surfaces are skipped with a warning.
+    /// couplings and ties); `TYPE=ELEMENT` (the default): `element or
+    /// element set, S1..S6` lines (element faces, for ties).
     fn surface(&mut self, card: &Card) -> Result<(), InputError> {
-        if !card
-            .value("TYPE")
-            .is_some_and(|t| t.eq_ignore_ascii_case("NODE"))
-        {
-            self.warn_once(
-                card,
-                ": element-based surfaces are skipped (couplings need TYPE=NODE)",
-            );
-            return Ok(());
-        }
+        self.check_params(card, &["NAME", "TYPE", "INTERNAL"]);
         let name = card.require_name(self.files, "NAME")?;
-        let mut nodes = Vec::new();
-        for line in &card.data {
-            let first = line.get(0).unwrap_or("");
-            match self.node_sets.get(&first.to_ascii_uppercase()) {
-                Some(set) => nodes.extend(set.iter().map(|(n, _)| *n)),
-                None => nodes.push(line.id(self.files, 0, "surface node or node set")?),
+        let kind = card.value("TYPE").map(super::cards::name);
+        match kind.as_deref() {
+            Some("NODE") => {
+                let mut nodes = Vec::new();
+                for line in &card.data {
+                    let first = line.get(0).unwrap_or("");
+                    match self.node_sets.get(&first.to_ascii_uppercase()) {
+                        Some(set) => nodes.extend(set.iter().map(|(n, _)| *n)),
+                        None => nodes.push(line.id(self.files, 0, "surface node or node set")?),
+                    }
+                }
+                self.surfaces.insert(name, nodes);
+            }
+            None | Some("ELEMENT") => {
+                let mut faces = Vec::new();
+                for line in &card.data {
+                    let target = line.get(0).filter(|t| !t.is_empty()).ok_or_else(|| {
+                        self.error(line.loc, "*SURFACE: element or element set is missing")
+                    })?;
+                    let face = line.get(1).map(super::cards::name).unwrap_or_default();
+                    let number = face
+                        .strip_prefix('S')
+                        .and_then(|n| n.parse::<usize>().ok())
+                        .filter(|n| (1..=6).contains(n))
+                        .ok_or_else(|| {
+                            self.error(
+                                line.loc,
+                                format!("*SURFACE {name}: face '{face}' should be S1 to S6"),
+                            )
+                        })?;
+                    faces.push((target.to_string(), number, line.loc));
+                }
+                self.element_surfaces.insert(name, faces);
+            }
+            Some(other) => {
+                return Err(self.error(
+                    card.loc,
+                    format!(
+                        "*SURFACE, TYPE={other}: only TYPE=NODE and TYPE=ELEMENT are supported"
+                    ),
+                ))
             }
         }
-        self.surfaces.insert(name, nodes);
         Ok(())
     }
 

@@ -27,6 +27,7 @@ pub(super) const READ: &[&str] = &[
     "MPC",
     "RIGID BODY",
     "DISTRIBUTING COUPLING",
+    "TIE",
 ];
 
 /// Keywords skipped with a warning: they do not change the stiffness or
@@ -106,7 +107,6 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
         "KINEMATICCOUPLING",
         "stiffness matrix (constraints between DOFs)",
     ),
-    ("TIE", "stiffness matrix (constraints between DOFs)"),
     ("CONTACTPAIR", "stiffness matrix"),
     ("CONTACT", "stiffness matrix"),
     ("GAP", "stiffness matrix"),

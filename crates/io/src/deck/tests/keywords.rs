@@ -25,7 +25,6 @@ fn ignored_unknown_and_refused_keywords() {
         ]
     );
     for (keyword, what) in [
-        ("*TIE, NAME=T\nA, B\n", "stiffness"),
         (
             "*MATRIX ASSEMBLE, STIFFNESS=K1, MASS=M1\n",
             "stiffness and mass",
