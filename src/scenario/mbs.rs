@@ -155,13 +155,15 @@ pub(super) fn connections(
                 }
             }
             name if rigid.index.contains_key(name) => rigid_end(name, b_pos)?,
-            name => return Err(src.at(
-                c,
-                format!(
+            name => {
+                return Err(src.at(
+                    c,
+                    format!(
                     "{what} goes to '{name}', which is neither ground, track nor a rigid body{}",
                     did_you_mean(name, rigid)
                 ),
-            )),
+                ))
+            }
         };
         connections.push(Connection {
             name: r.name.clone(),
