@@ -218,16 +218,8 @@ fn find<'a>(
     span: &Range<usize>,
     path: &mut Vec<(Step<'a>, &'a Spanned<Node>)>,
 ) -> Option<Hit<'a>> {
-    let this_is_it = node.span() == *span;
-    let name = refused.name.as_str();
-    let found = |step, child: &'a Spanned<Node>, at: &Range<usize>, path: &[_]| {
-        let mut path: Vec<(Step<'a>, &'a Spanned<Node>)> = path.to_vec();
-        path.push((step, child));
-        Hit {
-            offset: at.start,
-            path,
-        }
-    };
+    // serde's span is this table's (or array's): its entries are in it.
+    let in_it = node.span() == *span;
     let children: Vec<(Step<'a>, &'a Spanned<Node>, Range<usize>)> = match node.get_ref() {
         Node::Table(entries) => entries
             .iter()
@@ -241,14 +233,18 @@ fn find<'a>(
         Node::Text(_) | Node::Integer(_) | Node::Other => return None,
     };
     for (step, child, key_span) in children {
-        let here = this_is_it || within(&key_span, span);
-        let is_key = matches!(step, Step::Key(k) if k == name);
-        let is_value = matches!(child.get_ref(), Node::Text(t) if t == name);
-        if refused.kind == Kind::Key && is_key && here {
-            return Some(found(step, child, &key_span, path));
-        }
-        if refused.kind == Kind::Value && is_value && (this_is_it || within(&child.span(), span)) {
-            return Some(found(step, child, &child.span(), path));
+        let at = match (refused.kind, step, child.get_ref()) {
+            (Kind::Key, Step::Key(key), _) if key == refused.name => Some(key_span),
+            (Kind::Value, _, Node::Text(text)) if *text == refused.name => Some(child.span()),
+            _ => None,
+        };
+        if let Some(at) = at.filter(|at| in_it || within(at, span)) {
+            let mut path = path.clone();
+            path.push((step, child));
+            return Some(Hit {
+                offset: at.start,
+                path,
+            });
         }
         path.push((step, child));
         let deeper = find(child, refused, span, path);
