@@ -55,6 +55,16 @@ pub(super) fn check_track(src: TomlSource<'_>, raw: &RawFile) -> Result<(), Inpu
     Ok(())
 }
 
+/// "; did you mean 'x'?" for the end name (a rigid body's, `ground` or
+/// `track`) nearest to `name`, if one is near.
+fn did_you_mean(name: &str, rigid: &RigidBodies) -> String {
+    let mut known: Vec<&str> = rigid.index.keys().map(String::as_str).collect();
+    known.extend(["ground", "track"]);
+    known.sort_unstable();
+    flexbody_io::spelling::nearest(name, known)
+        .map_or_else(String::new, |n| format!("; did you mean '{n}'?"))
+}
+
 /// The connections: end b on the flexible body or a rigid body, end a on
 /// ground, the track or a rigid body, and the force law between them.
 pub(super) fn connections(
@@ -83,7 +93,13 @@ pub(super) fn connections(
                     body: *i,
                     point: r.point.unwrap_or(default_point),
                 }),
-                None => Err(src.at(c, format!("{what}: '{name}' is not a rigid body"))),
+                None => Err(src.at(
+                    c,
+                    format!(
+                        "{what}: '{name}' is not a rigid body{}",
+                        did_you_mean(name, rigid)
+                    ),
+                )),
             }
         };
         // End b: a node of the flexible body, or a rigid body.
@@ -143,8 +159,9 @@ pub(super) fn connections(
                 return Err(src.at(
                     c,
                     format!(
-                        "{what} goes to '{name}', which is neither ground, track nor a rigid body"
-                    ),
+                    "{what} goes to '{name}', which is neither ground, track nor a rigid body{}",
+                    did_you_mean(name, rigid)
+                ),
                 ))
             }
         };

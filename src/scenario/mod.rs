@@ -187,7 +187,7 @@ pub fn parse_model_file_with(
         notes,
         element_sets,
         catalogue,
-    } = parse_model_toml(src, options)?;
+    } = parse_model_toml(src, options, raw::SCENARIO_KEYS)?;
     let rigid = mbs::rigid_bodies(src, &raw)?;
     mbs::check_track(src, &raw)?;
     let connections = mbs::connections(src, &raw, &model, &rigid)?;

@@ -1,46 +1,35 @@
 //! The scenario tables of a TOML model file as written, with source spans.
-//! The model tables are read by [`flexbody_io::model_toml`]; here they are
-//! only named, so that a key neither reader knows is refused with its line.
+//! The model tables are read by [`flexbody_io::model_toml`], which also
+//! refuses a top-level key neither reader knows. Every table here refuses
+//! a key it does not know (`deny_unknown_fields`), with its line and the
+//! nearest valid key.
 
 use flexbody_io::model_toml::DofEntry;
 use flexbody_mbs::{ForceLaw, Track};
 use flexbody_reduce::Method;
-use serde::de::IgnoredAny;
 use serde::Deserialize;
 use toml::Spanned;
 
 use super::CaseSpec;
 
-/// Every top-level key of a model file, in the order `docs/model-file.md`
-/// gives them.
+/// The top-level keys of the scenario, in the order `docs/model-file.md`
+/// gives them; the model's are [`flexbody_io::model_toml::MODEL_KEYS`].
+pub(super) const SCENARIO_KEYS: &[&str] = &[
+    "interface",
+    "track",
+    "rigid_body",
+    "connection",
+    "study",
+    "simulation",
+    "force",
+    "frf",
+];
+
+/// The scenario's top-level keys ([`SCENARIO_KEYS`]); the model's are
+/// skipped here, and a key neither reader knows is refused by
+/// [`flexbody_io::model_toml::parse_model_toml`].
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(dead_code)] // the model keys are named, never read, here
 pub(super) struct RawFile {
-    // The model (read by `flexbody_io::model_toml`).
-    #[serde(default)]
-    title: IgnoredAny,
-    #[serde(default)]
-    mesh: IgnoredAny,
-    #[serde(default)]
-    coupling: IgnoredAny,
-    #[serde(default)]
-    material: IgnoredAny,
-    #[serde(default)]
-    section: IgnoredAny,
-    #[serde(default)]
-    nodes: IgnoredAny,
-    #[serde(default)]
-    beam_line: IgnoredAny,
-    #[serde(default)]
-    element: IgnoredAny,
-    #[serde(default)]
-    sets: IgnoredAny,
-    #[serde(default)]
-    boundary: IgnoredAny,
-    #[serde(default)]
-    damping: IgnoredAny,
-    // What is done with it.
     pub interface: Option<RawInterface>,
     pub track: Option<Track>,
     #[serde(default)]
@@ -130,6 +119,9 @@ pub(super) struct RawConnection {
     pub track_x: Option<f64>,
 }
 
+/// The force laws a connection's `law` names.
+const LAWS: &[&str] = &["linear", "piecewise-linear", "bump-stop", "friction-damper"];
+
 impl RawConnection {
     /// The force law the fields describe, or a message naming what is wrong.
     pub fn law(&self) -> Result<ForceLaw, String> {
@@ -151,7 +143,10 @@ impl RawConnection {
             ),
             "piecewise-linear" => (
                 ForceLaw::PiecewiseLinear {
-                    points: self.points.clone().ok_or("law piecewise-linear needs `points` = [[v, F], ...]")?,
+                    points: self
+                        .points
+                        .clone()
+                        .ok_or("law piecewise-linear needs `points` = [[v, F], ...]")?,
                     damping: self.damping.unwrap_or(0.0),
                 },
                 &["points", "damping"],
@@ -171,9 +166,11 @@ impl RawConnection {
                 &["force", "velocity"],
             ),
             other => {
+                let hint = flexbody_io::spelling::nearest(other, LAWS.iter().copied())
+                    .map_or_else(String::new, |law| format!("; did you mean `{law}`?"));
                 return Err(format!(
-                    "unknown law '{other}'; expected linear, piecewise-linear, bump-stop or friction-damper"
-                ))
+                    "unknown law '{other}'{hint} (valid laws: linear, piecewise-linear, bump-stop, friction-damper)"
+                ));
             }
         };
         if let Some((field, _)) = given.iter().find(|(f, g)| *g && !allowed.contains(f)) {
@@ -254,4 +251,29 @@ pub(super) struct RawHarmonic {
     pub frequency_hz: f64,
     #[serde(default)]
     pub phase: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RawFile, SCENARIO_KEYS};
+    use flexbody_io::model_toml::MODEL_KEYS;
+    use flexbody_io::TomlSource;
+    use std::path::Path;
+
+    #[test]
+    fn every_scenario_key_is_read_and_the_model_keys_are_not() {
+        // A date is no valid value of any scenario key: each key is
+        // refused with it, so each is read by `RawFile` (not skipped).
+        for key in SCENARIO_KEYS {
+            let text = format!("{key} = 1979-05-27\n");
+            let src = TomlSource::new(Path::new("m.toml"), &text);
+            assert!(src.parse::<RawFile>().is_err(), "`{key}` is skipped");
+        }
+        for key in MODEL_KEYS {
+            assert!(!SCENARIO_KEYS.contains(key), "`{key}` is read twice");
+            let text = format!("{key} = 1979-05-27\n");
+            let src = TomlSource::new(Path::new("m.toml"), &text);
+            assert!(src.parse::<RawFile>().is_ok(), "`{key}` is read here");
+        }
+    }
 }

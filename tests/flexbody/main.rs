@@ -22,6 +22,7 @@ mod plots;
 mod report_html;
 mod section_forces;
 mod sid;
+mod strict_toml;
 mod study;
 mod support;
 mod vehicle;

@@ -20,8 +20,10 @@ pub struct Node {
     pub coords: [f64; 3],
 }
 
-/// Rayleigh damping `D = alpha M + beta K` (alpha in 1/s, beta in s).
+/// Rayleigh damping `D = alpha M + beta K` (alpha in 1/s, beta in s). A
+/// key besides `alpha` and `beta` is refused when read.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Rayleigh {
     pub alpha: f64,
     pub beta: f64,

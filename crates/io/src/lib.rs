@@ -12,6 +12,8 @@
 pub mod deck;
 pub mod matrices;
 pub mod model_toml;
+pub mod spelling;
+mod toml_keys;
 mod toml_source;
 
 pub use deck::{parse_deck, read_deck, Deck, DeckOptions};

@@ -19,10 +19,17 @@ impl<'a> TomlSource<'a> {
     }
 
     /// Deserialises the whole text into `T`; a syntax or type error names
-    /// its line.
+    /// its line, an unknown key or value (serde's `deny_unknown_fields`, an
+    /// enum's variants) also its table and the nearest valid spelling.
     pub fn parse<T: DeserializeOwned>(&self) -> Result<T, InputError> {
-        toml::from_str(self.text)
-            .map_err(|e| self.error(e.span().map(|s| s.start), e.message().to_string()))
+        toml::from_str(self.text).map_err(|e| crate::toml_keys::error(self, &e))
+    }
+
+    /// Refuses the first top-level key not in `known`, naming its line and
+    /// the nearest of `known` (for readers that split the top-level keys
+    /// between them, `known` is the union).
+    pub fn refuse_unknown_top_level(&self, known: &[&str]) -> Result<(), InputError> {
+        crate::toml_keys::refuse_unknown_top_level(self, known)
     }
 
     /// The 1-based line of a byte offset.

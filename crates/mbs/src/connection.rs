@@ -53,8 +53,10 @@ impl Connection {
 
 /// Harmonic track profile `z(s) = a cos(2 pi s / L_w)` (report 6.1). A
 /// vehicle moving over it at speed V excites at `Omega = 2 pi V / L_w`; the
-/// wheel at `x` sees the complex amplitude `a exp(i 2 pi x / L_w)`.
+/// wheel at `x` sees the complex amplitude `a exp(i 2 pi x / L_w)`. A key
+/// besides `amplitude` and `wavelength` is refused when read.
 #[derive(Copy, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Track {
     /// Amplitude a (m).
     pub amplitude: f64,

@@ -151,39 +151,7 @@ pub(super) fn nearest_known(keyword: &str) -> Option<&'static str> {
         .chain(IGNORED)
         .chain(REFUSED.iter().map(|(k, _)| k))
         .copied();
-    nearest(keyword, known)
-}
-
-/// The known keyword nearest to `keyword` (both upper case without spaces)
-/// when it is close enough to be a misspelling: at most 1 edit for
-/// keywords of up to 4 letters, 2 for longer ones.
-pub(super) fn nearest<'a>(
-    keyword: &str,
-    known: impl IntoIterator<Item = &'a str>,
-) -> Option<&'a str> {
-    let limit = if keyword.chars().count() <= 4 { 1 } else { 2 };
-    known
-        .into_iter()
-        .map(|k| (edit_distance(keyword, &k.replace(' ', "")), k))
-        .filter(|(d, _)| *d <= limit)
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, k)| k)
-}
-
-/// Levenshtein distance (insertions, deletions, substitutions).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let substitute = diagonal + usize::from(ca != *cb);
-            diagonal = row[j + 1];
-            row[j + 1] = substitute.min(row[j] + 1).min(diagonal + 1);
-        }
-    }
-    row[b.len()]
+    crate::spelling::nearest(keyword, known)
 }
 
 #[cfg(test)]
@@ -191,18 +159,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn distances_and_nearest() {
-        assert_eq!(edit_distance("BOUNDRY", "BOUNDARY"), 1);
-        assert_eq!(edit_distance("ELASTC", "ELASTIC"), 1);
-        assert_eq!(edit_distance("NODE", "NSET"), 3);
-        assert_eq!(edit_distance("", "ABC"), 3);
-        let known = ["BOUNDARY", "SOLID SECTION", "NODE", "NSET"];
-        assert_eq!(nearest("BOUNDRY", known), Some("BOUNDARY"));
-        assert_eq!(nearest("SOLIDSECTON", known), Some("SOLID SECTION"));
-        assert_eq!(nearest("NOD", known), Some("NODE"));
-        assert_eq!(nearest("FOOBAR", known), None);
-        // Short keywords take one edit only.
-        assert_eq!(nearest("NSAT", ["NODE"]), None);
+    fn nearest_known_keywords() {
         // Read, skipped and refused keywords are all suggested.
         assert_eq!(nearest_known("BOUNDRY"), Some("BOUNDARY"));
         assert_eq!(nearest_known("BEAMSECTON"), Some("BEAM SECTION"));

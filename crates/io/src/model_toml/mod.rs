@@ -5,8 +5,9 @@
 //!
 //! The file's other tables (interface, MBS, study, simulation, frequency
 //! response) describe what is done with the model; they are read by the
-//! scenario reader of the `flexbody` crate, which also refuses top-level
-//! keys that neither knows. Here they are skipped.
+//! scenario reader of the `flexbody` crate, which names their keys to
+//! [`parse_model_toml`]. Here they are skipped; a top-level key neither
+//! reader knows is refused with the nearest of both key sets.
 
 mod build;
 mod raw;
@@ -37,12 +38,34 @@ pub struct ModelToml {
     pub catalogue: crate::deck::Catalogue,
 }
 
+/// The top-level keys of the FE model, in the order `docs/model-file.md`
+/// gives them.
+pub const MODEL_KEYS: &[&str] = &[
+    "title",
+    "mesh",
+    "material",
+    "section",
+    "nodes",
+    "beam_line",
+    "element",
+    "sets",
+    "boundary",
+    "coupling",
+    "damping",
+];
+
 /// Reads the model sections of a TOML text and builds the model; errors
-/// name the file and line. A `mesh` deck is read with `options`.
+/// name the file and line. `other_keys` are the top-level keys the caller
+/// reads (none for a file that is only a model): they are skipped here,
+/// and a key in neither [`MODEL_KEYS`] nor `other_keys` is refused. A
+/// `mesh` deck is read with `options`.
 pub fn parse_model_toml(
     src: TomlSource<'_>,
     options: &DeckOptions,
+    other_keys: &[&str],
 ) -> Result<ModelToml, InputError> {
+    let known: Vec<&str> = MODEL_KEYS.iter().chain(other_keys).copied().collect();
+    src.refuse_unknown_top_level(&known)?;
     let raw: raw::RawModel = src.parse()?;
     let built = build::build(src, &raw, options)?;
     Ok(ModelToml {

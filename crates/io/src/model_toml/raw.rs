@@ -6,9 +6,10 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
 
-/// The top-level keys that describe the FE model. Other top-level tables
-/// (interface, MBS, study) are the caller's: they are skipped here, and the
-/// caller refuses keys that neither it nor this struct knows.
+/// The top-level keys that describe the FE model ([`super::MODEL_KEYS`]).
+/// Other top-level tables (interface, MBS, study) are the caller's: they
+/// are skipped here, after [`super::parse_model_toml`] has refused keys
+/// that neither the caller nor this struct knows.
 #[derive(Deserialize)]
 pub(crate) struct RawModel {
     pub title: Option<String>,
@@ -64,8 +65,10 @@ impl<'de> Deserialize<'de> for RawSection {
             None => return Err(D::Error::missing_field("name")),
         };
         // The shape's own fields only: `SectionShape` denies the others.
+        // Its error (an unknown key or shape) is located and named by
+        // `TomlSource::parse`.
         let shape = SectionShape::deserialize(toml::Value::Table(table))
-            .map_err(|e| D::Error::custom(format!("section '{name}': {}", e.message())))?;
+            .map_err(|e| D::Error::custom(e.message()))?;
         Ok(RawSection { name, shape })
     }
 }
@@ -196,4 +199,27 @@ pub(crate) struct RawCoupling {
     pub nodes: Option<Vec<u64>>,
     #[serde(default)]
     pub weights: Option<Vec<f64>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RawModel;
+    use crate::model_toml::MODEL_KEYS;
+    use crate::TomlSource;
+    use std::path::Path;
+
+    #[test]
+    fn every_model_key_is_read_and_no_other() {
+        // A date is no valid value of any model key: each key is refused
+        // with it, so each is read by `RawModel` (not skipped).
+        for key in MODEL_KEYS {
+            let text = format!("{key} = 1979-05-27\n");
+            let src = TomlSource::new(Path::new("m.toml"), &text);
+            assert!(src.parse::<RawModel>().is_err(), "`{key}` is skipped");
+        }
+        // Any other key is skipped by `RawModel`: the caller's, or refused
+        // by `parse_model_toml` before.
+        let src = TomlSource::new(Path::new("m.toml"), "interface = 1979-05-27\n");
+        assert!(src.parse::<RawModel>().is_ok());
+    }
 }
