@@ -10,7 +10,7 @@ use super::known::{nearest_known, IGNORED, REFUSED};
 use super::unknown::{DeckOptions, UnknownKeywords};
 use crate::InputError;
 use flexbody_fem::element::{element_types, ElementType, SectionKind};
-use flexbody_fem::{Dof, DofKind, Node, NodeId};
+use flexbody_fem::{Dof, DofKind, Node, NodeId, Rayleigh};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Most ids one `GENERATE` line may produce.
@@ -41,6 +41,7 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
         SectionKind::Beam => "*BEAM SECTION",
         SectionKind::Mass => "*MASS",
         SectionKind::Spring { .. } => "*SPRING",
+        SectionKind::Dashpot { .. } => "*DASHPOT",
     }
 }
 
@@ -106,6 +107,8 @@ pub(super) struct Reader<'a> {
     /// Node-based surfaces (`*SURFACE, TYPE=NODE`): name -> nodes.
     pub surfaces: BTreeMap<String, Vec<NodeId>>,
     pub couplings: Vec<DeckCoupling>,
+    /// The model's Rayleigh damping of `*MODAL DAMPING, RAYLEIGH`.
+    pub modal_rayleigh: Option<(Rayleigh, Loc)>,
     /// Unknown keywords skipped under `allow_unknown`.
     pub unknown: UnknownKeywords,
     options: DeckOptions,
@@ -134,6 +137,7 @@ impl<'a> Reader<'a> {
             skipped: Vec::new(),
             surfaces: BTreeMap::new(),
             couplings: Vec::new(),
+            modal_rayleigh: None,
             unknown: UnknownKeywords {
                 deck: files.paths[0].clone(),
                 keywords: Vec::new(),
@@ -166,6 +170,9 @@ impl<'a> Reader<'a> {
                 "BEAMSECTION" => self.beam_section(card)?,
                 "MASS" => self.mass(card)?,
                 "SPRING" => self.spring(card)?,
+                "DASHPOT" => self.dashpot(card)?,
+                "DAMPING" => self.damping(card)?,
+                "MODALDAMPING" => self.modal_damping(card)?,
                 "INSTANCE" => self.instance(card)?,
                 "SURFACE" => self.surface(card)?,
                 "COUPLING" => self.coupling(card)?,
