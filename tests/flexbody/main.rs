@@ -6,6 +6,7 @@ mod cli;
 mod cli_errors;
 mod cli_lowest_below;
 mod cli_modes;
+mod damping;
 mod decks;
 mod errors;
 mod exchange;
