@@ -149,3 +149,29 @@ fn damping_decks_flexbody_cannot_hold_exit_2_naming_file_and_line() {
         fails_with(&["info", path.to_str().unwrap()], &all);
     }
 }
+
+#[test]
+fn a_model_files_damping_replaces_the_decks_modal_rayleigh_and_keeps_its_dashpots() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = oscillator(2.0, 8.0e4, 60.0).replace(
+        "*FREQUENCY\n1\n",
+        "*FREQUENCY\n1\n*MODAL DAMPING, RAYLEIGH\n1, 1, 9.0, 0.0\n",
+    );
+    write(dir.path(), "sdof.inp", &text);
+    let model = write(
+        dir.path(),
+        "model.toml",
+        "mesh = \"sdof.inp\"\n\n[damping]\nalpha = 3.0\nbeta = 0.0\n",
+    );
+    let o = run_ok(&["info", model.to_str().unwrap()]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("damping: Rayleigh alpha 3e0 1/s, beta 0e0 s (whole model); 1 dashpots"),
+        "{out}"
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("[damping] replaces the deck's *MODAL DAMPING only"),
+        "{err}"
+    );
+}

@@ -257,8 +257,8 @@ impl Reader<'_> {
                 "*MODAL DAMPING with damping ratios per mode range is not supported: the \
                  ratios belong to the modes of the full model, not to a damping matrix D \
                  that a reduced body keeps; give *MODAL DAMPING, RAYLEIGH (alpha M + beta K), \
-                 or damping ratios of the reduced body's modes in the simulation file \
-                 (`modal_damping`)",
+                 or damping ratios of the reduced body's modes in the model file \
+                 (`modal_damping` of `[simulation]`)",
             ));
         }
         self.check_params(card, &["RAYLEIGH"]);
