@@ -56,7 +56,7 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
     let out = Outputs {
         k: SharedSlice(k.as_mut_ptr()),
         m: SharedSlice(m.as_mut_ptr()),
-        d: element_damping.then(|| SharedSlice(d.as_mut_ptr())),
+        d: element_damping.then_some(SharedSlice(d.as_mut_ptr())),
     };
     for color in batches {
         color

@@ -260,7 +260,7 @@ mod tests {
     #[test]
     fn an_axial_dashpot_is_c_e_e_transposed_with_opposite_signs_across_its_nodes() {
         let d = [3.0, -1.5, 2.0];
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) as f64;
+        let l: f64 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let e = d.map(|x| x / l.sqrt());
         let c = 2.5e3;
         let dashpot = Element::from(AxialDashpot {
