@@ -1,9 +1,9 @@
 //! What `flexbody info` says about a model beyond its size: its node and
-//! element sets, couplings, materials, sections, fixed DOFs and its full
-//! mass (the fixed DOFs' share included), so that a user finds the names
-//! to give `--interface` without opening the deck.
+//! element sets, couplings, materials, sections, fixed DOFs, damping and
+//! its full mass (the fixed DOFs' share included), so that a user finds the
+//! names to give `--interface` without opening the deck.
 
-use crate::fem::{CouplingKind, DofKind, FemError, Model};
+use crate::fem::{CouplingKind, DofKind, FemError, Model, Rayleigh};
 use crate::input::Component;
 use std::collections::BTreeMap;
 
@@ -60,6 +60,7 @@ pub fn lines(c: &Component) -> Result<Vec<String>, FemError> {
         .collect();
     out.push(format!("sections: {}", listed(sections)));
     out.push(format!("fixed DOFs: {}", fixed(model)));
+    out.push(format!("damping: {}", damping(model)));
     let full = full_mass_along_axes(model)?.map(|m| format!("{m:.6e}"));
     out.push(format!(
         "full mass along x, y, z (kg), fixed DOFs included: {}",
@@ -83,6 +84,54 @@ fn listed(items: Vec<String>) -> String {
         0 => "none".to_string(),
         n if n > SHOWN => format!("{} and {} more", items[..SHOWN].join(", "), n - SHOWN),
         _ => items.join(", "),
+    }
+}
+
+/// The parts of D (report eq. 1): "Rayleigh alpha 0.5 1/s, beta 1e-4 s
+/// (whole model); material Rayleigh alpha 2 1/s, beta 0 s on 120
+/// elements; 3 dashpots (c 1.5e3 to 4e3 N s/m)" or "none (D = 0)".
+pub(crate) fn damping(model: &Model) -> String {
+    let rayleigh = |r: Rayleigh| format!("alpha {:e} 1/s, beta {:e} s", r.alpha, r.beta);
+    let mut parts = Vec::new();
+    if let Some(r) = model.rayleigh().filter(|r| r.alpha != 0.0 || r.beta != 0.0) {
+        parts.push(format!("Rayleigh {} (whole model)", rayleigh(r)));
+    }
+    let mut by_material: Vec<(Rayleigh, usize)> = Vec::new();
+    let mut dashpots: Vec<f64> = Vec::new();
+    for e in model.elements() {
+        let b = e.behaviour();
+        if let Some(r) = b.material_damping() {
+            match by_material.iter_mut().find(|(q, _)| *q == r) {
+                Some((_, n)) => *n += 1,
+                None => by_material.push((r, 1)),
+            }
+        }
+        match e {
+            crate::fem::Element::Dashpot(d) => dashpots.push(d.coefficient),
+            crate::fem::Element::AxialDashpot(d) => dashpots.push(d.coefficient),
+            _ => {}
+        }
+    }
+    for (r, n) in by_material {
+        parts.push(format!("material Rayleigh {} on {n} elements", rayleigh(r)));
+    }
+    if !dashpots.is_empty() {
+        let (lo, hi) = dashpots
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &c| {
+                (lo.min(c), hi.max(c))
+            });
+        let range = if lo == hi {
+            format!("{lo:e}")
+        } else {
+            format!("{lo:e} to {hi:e}")
+        };
+        parts.push(format!("{} dashpots (c {range} N s/m)", dashpots.len()));
+    }
+    if parts.is_empty() {
+        "none (D = 0)".to_string()
+    } else {
+        parts.join("; ")
     }
 }
 

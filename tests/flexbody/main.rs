@@ -8,6 +8,7 @@ mod cli_errors;
 mod cli_lowest_below;
 mod cli_modes;
 mod deck_steps;
+mod damping;
 mod decks;
 mod errors;
 mod exchange;

@@ -246,7 +246,7 @@ fn list_frequencies(f: &[f64]) -> String {
 }
 
 /// A few lines on `body`: method, r, DOFs, mass (if the basis holds a rigid
-/// translation), interface nodes and frequencies (Hz).
+/// translation), interface nodes, damping and frequencies (Hz).
 pub fn summary(body: &ReducedBody) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "method: {}", body.method);
@@ -268,6 +268,11 @@ pub fn summary(body: &ReducedBody) -> String {
         nodes.len(),
         list_nodes(nodes.iter().copied())
     );
+    let damping = match &body.damping {
+        Some(_) => "D_red = T^T D T (eq. 5-7)",
+        None => "none",
+    };
+    let _ = writeln!(s, "damping: {damping}");
     match body.frequencies_hz() {
         Ok(f) => {
             let _ = writeln!(s, "frequencies (Hz): {}", list_frequencies(&f));

@@ -1,17 +1,22 @@
-//! Global assembly of stiffness K, mass M and Rayleigh damping D
-//! (report eq. 1) into sparse matrices over the free DOFs.
+//! Global assembly of stiffness K, mass M and damping D (report eq. 1)
+//! into sparse matrices over the free DOFs. D is the model's global
+//! Rayleigh damping `alpha M + beta K` plus the elements' damping matrices
+//! (dashpots, and `alpha_e M_e + beta_e K_e` of materials with Rayleigh
+//! damping), assembled as K and M are.
 //!
 //! The pattern is built before the values: the node graph of the elements
 //! gives every column's rows once, sorted. Elements are then coloured so that
 //! no two elements of a colour share a node, and each colour is scattered in
 //! parallel (rayon); threads write disjoint entries without locks. Memory is
-//! the pattern plus the values of K and M, never a triplet list.
+//! the pattern plus the values of K and M (and of D when an element has
+//! damping), never a triplet list.
 
 use crate::element::{Element, ElementMatrices};
 use crate::model::Model;
 use crate::FemError;
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use flexbody_linalg::{sparse, SparseMat};
+use faer::Mat;
+use flexbody_linalg::SparseMat;
 use rayon::prelude::*;
 
 /// The assembled matrices of a model, over `model.dof_map()`.
@@ -19,7 +24,8 @@ use rayon::prelude::*;
 pub struct SystemMatrices {
     pub stiffness: SparseMat,
     pub mass: SparseMat,
-    /// Rayleigh damping `alpha M + beta K`, if the model has any.
+    /// Damping D: the model's Rayleigh `alpha M + beta K` plus the
+    /// elements' damping matrices; `None` if the model has neither.
     pub damping: Option<SparseMat>,
 }
 
@@ -39,10 +45,19 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
     let nnz = row_idx.len();
     let mut k = vec![0.0; nnz];
     let mut m = vec![0.0; nnz];
+    let element_damping = model.elements().par_iter().any(Element::has_damping);
+    let mut d = if element_damping {
+        vec![0.0; nnz]
+    } else {
+        Vec::new()
+    };
     let batches = batches(n, &touched);
     drop(touched);
-    let k_out = SharedSlice(k.as_mut_ptr());
-    let m_out = SharedSlice(m.as_mut_ptr());
+    let out = Outputs {
+        k: SharedSlice(k.as_mut_ptr()),
+        m: SharedSlice(m.as_mut_ptr()),
+        d: element_damping.then_some(SharedSlice(d.as_mut_ptr())),
+    };
     for color in batches {
         color
             .par_iter()
@@ -53,11 +68,9 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
                     // Safety: the batches of one colour share no equation, and
                     // a batch's elements are added one after another.
                     if terms.iter().all(|t| !matches!(t, Terms::Combination(_))) {
-                        unsafe {
-                            scatter_direct(&em, terms, &col_ptr, &row_idx, k_out, m_out, sorted)
-                        };
+                        unsafe { scatter_direct(&em, terms, &col_ptr, &row_idx, out, sorted) };
                     } else {
-                        unsafe { scatter(&em, terms, &col_ptr, &row_idx, k_out, m_out) };
+                        unsafe { scatter(&em, terms, &col_ptr, &row_idx, out) };
                     }
                 }
                 Ok(())
@@ -71,17 +84,27 @@ pub fn assemble(model: &Model) -> Result<SystemMatrices, FemError> {
         // SAFETY: a copy of the pattern that `new_checked` checks below.
         unsafe { SymbolicSparseColMat::new_unchecked(n, n, cols, None, rows) }
     };
+    let rayleigh = model.rayleigh().filter(|r| r.alpha != 0.0 || r.beta != 0.0);
+    // D on the same pattern: the elements' damping plus alpha M + beta K.
+    let damping_pattern = (element_damping || rayleigh.is_some()).then(|| {
+        let (cols, rows) = (col_ptr.clone(), par_copy(&row_idx));
+        // SAFETY: a copy of the pattern that `new_checked` checks below.
+        unsafe { SymbolicSparseColMat::new_unchecked(n, n, cols, None, rows) }
+    });
     let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    let damping = damping_pattern.map(|pattern| {
+        if !element_damping {
+            d = vec![0.0; nnz];
+        }
+        if let Some(r) = rayleigh {
+            d.par_iter_mut()
+                .zip(k.par_iter().zip(&m))
+                .for_each(|(d, (k, m))| *d += r.alpha * m + r.beta * k);
+        }
+        SparseColMat::new(pattern, d)
+    });
     let stiffness = SparseColMat::new(symbolic, k);
     let mass = SparseColMat::new(mass_pattern, m);
-    let damping = match model.rayleigh() {
-        Some(r) if r.alpha != 0.0 || r.beta != 0.0 => {
-            let mut t = sparse::triplets_of(&mass, r.alpha);
-            t.extend(sparse::triplets_of(&stiffness, r.beta));
-            Some(sparse::from_triplets(n, n, &t)?)
-        }
-        _ => None,
-    };
     Ok(SystemMatrices {
         stiffness,
         mass,
@@ -144,18 +167,11 @@ fn equations_of(terms: &[Terms]) -> Vec<usize> {
     v
 }
 
-/// Equation terms of an element's DOFs, in [`Element::dofs`] order; for an
-/// element that creates no DOFs (a point mass), only those the DOF map
-/// holds ([`ElementBehaviour::creates_dofs`](crate::element::ElementBehaviour::creates_dofs)).
+/// Equation terms of an element's DOFs, in [`Element::dofs`] order: a DOF
+/// the model does not have (of an element that creates none, a point mass
+/// or a dashpot) is held, as a fixed one.
 fn element_equations(model: &Model, e: &Element) -> Vec<Terms> {
-    let dofs = e.dofs().into_iter();
-    if e.creates_dofs() {
-        dofs.map(|d| Terms::of(model, d)).collect()
-    } else {
-        let map = model.dof_map();
-        dofs.filter_map(|d| map.index_of(d).map(Terms::Direct))
-            .collect()
-    }
+    e.dofs().into_iter().map(|d| Terms::of(model, d)).collect()
 }
 
 /// Column pointers and sorted row indices of the union of all element blocks.
@@ -283,7 +299,16 @@ struct SharedSlice(*mut f64);
 unsafe impl Send for SharedSlice {}
 unsafe impl Sync for SharedSlice {}
 
-/// Adds the K and M of an element without coupled DOFs into the value
+/// The value arrays of K, M and (if some element has damping) D over the
+/// pattern.
+#[derive(Copy, Clone)]
+struct Outputs {
+    k: SharedSlice,
+    m: SharedSlice,
+    d: Option<SharedSlice>,
+}
+
+/// Adds the K, M and D of an element without coupled DOFs into the value
 /// arrays. The element's equations are sorted once; each of its columns then
 /// finds all of them in one forward walk over the column's sorted rows.
 ///
@@ -294,8 +319,7 @@ unsafe fn scatter_direct(
     terms: &[Terms],
     col_ptr: &[usize],
     row_idx: &[usize],
-    k: SharedSlice,
-    m: SharedSlice,
+    out: Outputs,
     sorted: &mut Vec<(usize, usize)>,
 ) {
     sorted.clear();
@@ -304,13 +328,10 @@ unsafe fn scatter_direct(
         _ => None,
     }));
     sorted.sort_unstable();
-    let (ks, ms) = (em.stiffness.as_ref(), em.mass.as_ref());
+    let damping = em.damping.as_ref().zip(out.d);
     for &(j, b) in sorted.iter() {
-        let kb = ks.col(b).try_as_col_major().map(|c| c.as_slice());
-        let mb = ms.col(b).try_as_col_major().map(|c| c.as_slice());
-        let (Some(kb), Some(mb)) = (kb, mb) else {
-            unreachable!("element matrices are column-major")
-        };
+        let (kb, mb) = (column(&em.stiffness, b), column(&em.mass, b));
+        let db = damping.map(|(d, to)| (column(d, b), to));
         let start = col_ptr[j];
         let rows = &row_idx[start..col_ptr[j + 1]];
         let mut p = 0;
@@ -322,33 +343,45 @@ unsafe fn scatter_direct(
             }
             let at = start + p;
             unsafe {
-                *k.0.add(at) += kb[a];
-                *m.0.add(at) += mb[a];
+                *out.k.0.add(at) += kb[a];
+                *out.m.0.add(at) += mb[a];
+                if let Some((db, d)) = db {
+                    *d.0.add(at) += db[a];
+                }
             }
         }
     }
 }
 
-/// Adds an element's K and M into the value arrays, through the terms of
-/// its DOFs: `K_ij += sum_ab c_ai c_bj K_e,ab`.
+/// Column `b` of a small dense (column-major) matrix.
+fn column(m: &Mat<f64>, b: usize) -> &[f64] {
+    match m.col(b).try_as_col_major() {
+        Some(c) => c.as_slice(),
+        None => unreachable!("element matrices are column-major"),
+    }
+}
+
+/// Adds an element's K, M and D into the value arrays, through the terms
+/// of its DOFs: `K_ij += sum_ab c_ai c_bj K_e,ab`.
 ///
 /// # Safety
-/// `k` and `m` point to arrays of `row_idx.len()` values, and no other thread
-/// writes the entries of the element's equations at the same time.
+/// The arrays of `out` hold `row_idx.len()` values each, and no other
+/// thread writes the entries of the element's equations at the same time.
 unsafe fn scatter(
     em: &ElementMatrices,
     eq: &[Terms],
     col_ptr: &[usize],
     row_idx: &[usize],
-    k: SharedSlice,
-    m: SharedSlice,
+    out: Outputs,
 ) {
+    let damping = em.damping.as_ref().zip(out.d);
     for (b, tb) in eq.iter().enumerate() {
         tb.each(|j, cj| {
             let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
             for (a, ta) in eq.iter().enumerate() {
                 let (kv, mv) = (em.stiffness[(a, b)], em.mass[(a, b)]);
-                if kv == 0.0 && mv == 0.0 {
+                let dv = damping.map_or(0.0, |(d, _)| d[(a, b)]);
+                if kv == 0.0 && mv == 0.0 && dv == 0.0 {
                     continue;
                 }
                 ta.each(|i, ci| {
@@ -357,8 +390,11 @@ unsafe fn scatter(
                         let at = col_ptr[j] + p;
                         let c = ci * cj;
                         unsafe {
-                            *k.0.add(at) += c * kv;
-                            *m.0.add(at) += c * mv;
+                            *out.k.0.add(at) += c * kv;
+                            *out.m.0.add(at) += c * mv;
+                            if let Some((_, d)) = damping {
+                                *d.0.add(at) += c * dv;
+                            }
                         }
                     }
                 });
@@ -396,6 +432,32 @@ mod tests {
             }
         }
         (k, m)
+    }
+
+    /// Dense reference of D: `alpha M + beta K` of the model's Rayleigh
+    /// damping plus every element's damping block at its equations.
+    fn dense_damping(model: &Model) -> Mat<f64> {
+        let n = model.dof_map().len();
+        let (k, m) = dense(model);
+        let r = model.rayleigh().unwrap_or_default();
+        let mut d = Mat::from_fn(n, n, |i, j| r.alpha * m[(i, j)] + r.beta * k[(i, j)]);
+        for e in model.elements() {
+            let em = e.matrices(model).unwrap();
+            let Some(de) = em.damping else { continue };
+            let eq: Vec<Option<usize>> = em
+                .dofs
+                .iter()
+                .map(|d| model.dof_map().index_of(*d))
+                .collect();
+            for (a, ia) in eq.iter().enumerate() {
+                for (b, ib) in eq.iter().enumerate() {
+                    if let (Some(i), Some(j)) = (ia, ib) {
+                        d[(*i, *j)] += de[(a, b)];
+                    }
+                }
+            }
+        }
+        d
     }
 
     /// A C3D8 brick of `nx * ny * nz` unit-ish elements (a [`BrickBlock`] of
@@ -539,5 +601,113 @@ mod tests {
                 <= 1e-15 * flexbody_linalg::sparse::max_abs(m.as_ref())
         );
         assert_eq!(model.dof_map().len(), 6 * 6 - 3);
+    }
+
+    /// Beams of two materials (one with Rayleigh damping), dashpots along
+    /// a line, to ground and between DOFs, and the model's Rayleigh
+    /// damping: D is their sum, entry by entry; without any, no D.
+    #[test]
+    fn damping_is_the_models_rayleigh_plus_every_elements_damping() {
+        use crate::element::{AxialDashpot, Dashpot};
+        use crate::Rayleigh;
+        let steel = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let damped = steel
+            .clone()
+            .with_damping(Rayleigh {
+                alpha: 3.0,
+                beta: 2e-5,
+            })
+            .unwrap();
+        let section = SectionShape::Circ { radius: 0.02 }.constants().unwrap();
+        let coords = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.5, 0.0],
+            [3.0, 0.5, 1.0],
+        ];
+        let nodes: Vec<Node> = coords
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Node {
+                id: i as u64 + 1,
+                coords: *c,
+            })
+            .collect();
+        let beams = |damped_middle: bool| -> Vec<Element> {
+            (1..4)
+                .map(|i| {
+                    let material = if i == 2 && damped_middle {
+                        damped.clone()
+                    } else {
+                        steel.clone()
+                    };
+                    Element::Beam(Beam {
+                        id: i,
+                        nodes: [i as u64, i as u64 + 1],
+                        properties: BeamProperties::new(
+                            material,
+                            section.clone(),
+                            BeamTheory::Timoshenko,
+                        ),
+                        orientation: [0.0, 0.0, 1.0],
+                    })
+                })
+                .collect()
+        };
+        let mut elements = beams(true);
+        let plain = Model::of(nodes.clone(), beams(false))
+            .fixed(vec![Dof::new(1, DofKind::Ux)])
+            .build()
+            .unwrap();
+        elements.push(Element::AxialDashpot(AxialDashpot {
+            id: 10,
+            nodes: [1, 4],
+            coefficient: 7.0e3,
+        }));
+        elements.push(Element::Dashpot(Dashpot {
+            id: 11,
+            first: Dof::new(3, DofKind::Ry),
+            second: None,
+            coefficient: 50.0,
+        }));
+        elements.push(Element::Dashpot(Dashpot {
+            id: 12,
+            first: Dof::new(2, DofKind::Uy),
+            second: Some(Dof::new(4, DofKind::Uz)),
+            coefficient: 900.0,
+        }));
+        for rayleigh in [None, Some((0.5, 1e-4))] {
+            let mut parts =
+                Model::of(nodes.clone(), elements.clone()).fixed(vec![Dof::new(1, DofKind::Ux)]);
+            if let Some((alpha, beta)) = rayleigh {
+                parts = parts.rayleigh(Rayleigh { alpha, beta });
+            }
+            let model = parts.build().unwrap();
+            assert_eq!(model.dof_map().len(), plain.dof_map().len(), "no new DOFs");
+            let d = assemble(&model).unwrap().damping.unwrap().to_dense();
+            let want = dense_damping(&model);
+            let scale = flexbody_linalg::sparse::max_abs(want.as_ref());
+            let diff = flexbody_linalg::sparse::max_abs((&d - &want).as_ref());
+            assert!(diff <= 1e-14 * scale, "{diff:e} of {scale:e}");
+            // The dashpot along 1-4 on its own: c e e^T at node 4 (node 1's
+            // ux is fixed).
+            let l = (9.0_f64 + 0.25 + 1.0).sqrt();
+            let e = [3.0 / l, 0.5 / l, 1.0 / l];
+            let ux4 = model.dof_map().index_of(Dof::new(4, DofKind::Ux)).unwrap();
+            let uz4 = model.dof_map().index_of(Dof::new(4, DofKind::Uz)).unwrap();
+            let beams = dense_damping(
+                &Model::of(nodes.clone(), elements[..3].to_vec())
+                    .fixed(vec![Dof::new(1, DofKind::Ux)])
+                    .rayleigh(Rayleigh {
+                        alpha: rayleigh.map_or(0.0, |r| r.0),
+                        beta: rayleigh.map_or(0.0, |r| r.1),
+                    })
+                    .build()
+                    .unwrap(),
+            );
+            let got = d[(ux4, uz4)] - beams[(ux4, uz4)];
+            assert!((got - 7.0e3 * e[0] * e[2]).abs() < 1e-9 * 7.0e3, "{got}");
+        }
+        assert!(assemble(&plain).unwrap().damping.is_none());
     }
 }

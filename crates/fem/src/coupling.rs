@@ -535,6 +535,101 @@ mod tests {
         }
     }
 
+    /// A lumped mass on the reference node of a distributing coupling
+    /// (RBE3), whose DOFs the coupling eliminates: it moves with the face's
+    /// mean motion and adds its mass to the rigid-body mass.
+    #[test]
+    fn a_point_mass_on_a_distributing_reference_node_is_carried_by_its_constraint() {
+        let m = 5.0;
+        let plain = bar(3, false);
+        let mut elements = plain.elements().to_vec();
+        elements.push(
+            crate::element::PointMass {
+                id: 99,
+                node: 1000,
+                mass: m,
+                inertia: [0.0; 6],
+            }
+            .into(),
+        );
+        let model = Model::of(plain.nodes().to_vec(), elements)
+            .couplings(vec![Coupling {
+                name: "face".into(),
+                kind: CouplingKind::Distributing,
+                point: 1000,
+                nodes: face(&plain),
+                weights: None,
+            }])
+            .build()
+            .unwrap();
+        let mass = assemble(&model).unwrap().mass;
+        let rho_v = 7850.0 * 0.3 * 0.1 * 0.1;
+        for motion in [
+            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        ] {
+            let u: Vec<f64> = model
+                .dof_map()
+                .dofs()
+                .iter()
+                .map(|d| motion[d.kind.index()])
+                .collect();
+            let got = mass_product(&mass, &u, &u);
+            let want = rho_v + m;
+            assert!(
+                (got - want).abs() < 1e-12 * want,
+                "{motion:?}: {got} vs {want}"
+            );
+        }
+    }
+
+    /// Grounded dashpots on the face nodes of a rigid coupling, which the
+    /// coupling eliminates: through the constraint, a rigid motion of the
+    /// point damps as the face nodes' velocities say, `sum c v_n^2`.
+    #[test]
+    fn dashpots_on_coupled_nodes_act_through_the_constraint() {
+        let c = 300.0;
+        let plain = bar(3, false);
+        let face = face(&plain);
+        let mut elements = plain.elements().to_vec();
+        for (i, n) in face.iter().enumerate() {
+            elements.push(
+                crate::element::Dashpot {
+                    id: 200 + i,
+                    first: Dof::new(*n, DofKind::Ux),
+                    second: None,
+                    coefficient: c,
+                }
+                .into(),
+            );
+        }
+        let model = Model::of(plain.nodes().to_vec(), elements)
+            .couplings(vec![Coupling {
+                name: "face".into(),
+                kind: CouplingKind::Rigid,
+                point: 1000,
+                nodes: face.clone(),
+                weights: None,
+            }])
+            .build()
+            .unwrap();
+        let damping = assemble(&model).unwrap().damping.unwrap();
+        // Translation along x: every face node at unit speed. Rotation
+        // about z through the point (0, 0.05, 0.05): ux = -(y - 0.05).
+        for (motion, want) in [
+            ([1.0, 0.0, 0.0, 0.0, 0.0, 0.0], 4.0 * c),
+            ([0.0, 0.0, 0.0, 0.0, 0.0, 1.0], 4.0 * c * 0.05 * 0.05),
+            ([0.0, 0.0, 1.0, 0.0, 0.0, 0.0], 0.0),
+        ] {
+            let u = rigid(&model, motion);
+            let got = mass_product(&damping, &u, &u);
+            assert!(
+                (got - want).abs() < 1e-12 * c,
+                "{motion:?}: {got} vs {want}"
+            );
+        }
+    }
+
     /// A bar held rigidly by a point at its centre, a mass `m` on the point
     /// and a spring `k` from the point's uz to ground: one elastic mode,
     /// `omega^2 = k / (m_bar + m)`, and five rigid-body modes.

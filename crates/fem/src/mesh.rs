@@ -408,8 +408,8 @@ impl EveryElementType {
 
 /// Section values for tests, by kind: steel (E = 210 GPa, nu = 0.3, rho =
 /// 7850 kg/m^3); beams a 50 mm wide, 80 mm high rectangle with local y
-/// along global y; masses of 12.5 kg; springs of 1e6 N/m on `uy` (as many
-/// DOFs as the kind names).
+/// along global y; masses of 12.5 kg; springs of 1e6 N/m and dashpots of
+/// 2e3 N s/m on `uy` (as many DOFs as the kind names).
 pub fn sample_section(kind: SectionKind) -> SectionValues {
     let material = Material::new(2.1e11, 0.3, 7850.0).expect("valid constants");
     match kind {
@@ -428,6 +428,10 @@ pub fn sample_section(kind: SectionKind) -> SectionValues {
         SectionKind::Spring { dofs } => SectionValues::Spring {
             dofs: [0, 1].map(|k| (k < dofs).then_some(crate::DofKind::Uy)),
             stiffness: 1.0e6,
+        },
+        SectionKind::Dashpot { dofs } => SectionValues::Dashpot {
+            dofs: [0, 1].map(|k| (k < dofs).then_some(crate::DofKind::Uy)),
+            coefficient: 2.0e3,
         },
     }
 }

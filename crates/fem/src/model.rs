@@ -277,14 +277,22 @@ impl Model {
                 active.insert((idx, k));
             }
         }
-        for e in &self.elements {
-            if let Element::PointMass(m) = e {
-                if !DofKind::ALL
-                    .iter()
-                    .any(|k| active.contains(&(self.node_index[&m.node], *k)))
-                {
-                    return Err(FemError::MassWithoutDof { node: m.node });
-                }
+        // An element that only loads DOFs others create must find some.
+        for e in self.elements.iter().filter(|e| !e.creates_dofs()) {
+            let loads_some = e
+                .dofs()
+                .iter()
+                .any(|d| active.contains(&(self.node_index[&d.node], d.kind)));
+            if !loads_some {
+                return Err(match e {
+                    Element::PointMass(m) => FemError::MassWithoutDof { node: m.node },
+                    _ => FemError::InvalidElement {
+                        element: e.id(),
+                        reason: "no element or coupling gives its nodes the DOFs it acts on \
+                                 (it creates none: it loads the DOFs of others)"
+                            .into(),
+                    },
+                });
             }
         }
         for d in &self.fixed {

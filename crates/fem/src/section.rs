@@ -1,5 +1,6 @@
 //! Materials and beam cross-sections (SI units).
 
+use crate::model::Rayleigh;
 use crate::{require_non_negative, require_positive, FemError};
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +15,10 @@ pub struct Material {
     pub poisson_ratio: f64,
     /// Density (kg/m^3).
     pub density: f64,
+    /// Rayleigh damping of the material (Abaqus `*DAMPING, ALPHA=, BETA=`):
+    /// each element of it adds `alpha M_e + beta K_e` to D.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<Rayleigh>,
 }
 
 impl Material {
@@ -33,6 +38,18 @@ impl Material {
             shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
             poisson_ratio,
             density,
+            damping: None,
+        })
+    }
+
+    /// The material with Rayleigh damping `alpha M_e + beta K_e` in each of
+    /// its elements; `alpha` (1/s) and `beta` (s) must not be negative.
+    pub fn with_damping(self, damping: Rayleigh) -> Result<Self, FemError> {
+        require_non_negative("material damping alpha (1/s)", damping.alpha)?;
+        require_non_negative("material damping beta (s)", damping.beta)?;
+        Ok(Self {
+            damping: Some(damping),
+            ..self
         })
     }
 }

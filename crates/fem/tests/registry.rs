@@ -28,6 +28,8 @@ fn variant(e: &Element) -> &'static str {
         Element::Spring(_) => "Spring",
         Element::AxialSpring(_) => "AxialSpring",
         Element::Solid(_) => "Solid",
+        Element::Dashpot(_) => "Dashpot",
+        Element::AxialDashpot(_) => "AxialDashpot",
     }
 }
 
@@ -67,7 +69,16 @@ fn every_element_variant_is_built_through_the_registry() {
     let built: HashSet<&str> = every.elements.iter().map(|(_, e)| variant(e)).collect();
     // Planar beams are read from model files only; decks have no name for
     // them.
-    let expected: HashSet<&str> = ["Beam", "PointMass", "Spring", "AxialSpring", "Solid"].into();
+    let expected: HashSet<&str> = [
+        "Beam",
+        "PointMass",
+        "Spring",
+        "AxialSpring",
+        "Solid",
+        "Dashpot",
+        "AxialDashpot",
+    ]
+    .into();
     assert_eq!(built, expected);
     for (i, (t, e)) in every.elements.iter().enumerate() {
         assert_eq!(e.id(), i + 1, "{}", t.name);
@@ -96,7 +107,8 @@ fn every_element_type_has_symmetric_matrices_and_no_strain_under_a_translation()
         let em = e.matrices(&model).unwrap();
         let n = em.dofs.len();
         assert!(n > 0, "{}", t.name);
-        for m in [&em.stiffness, &em.mass] {
+        assert_eq!(em.damping.is_some(), e.has_damping(), "{}", t.name);
+        for m in [&em.stiffness, &em.mass].into_iter().chain(&em.damping) {
             assert_eq!((m.nrows(), m.ncols()), (n, n), "{}", t.name);
             let scale = max_abs(m).max(f64::MIN_POSITIVE);
             let asymmetry = max_abs(&(m - m.transpose()));

@@ -171,6 +171,10 @@ impl ElementBehaviour for Beam {
         self.id
     }
 
+    fn material_damping(&self) -> Option<crate::model::Rayleigh> {
+        self.properties.material.damping
+    }
+
     fn nodes(&self) -> Vec<NodeId> {
         self.nodes.to_vec()
     }
@@ -193,6 +197,7 @@ impl ElementBehaviour for Beam {
             dofs: self.dofs(),
             stiffness: congruence(&k, &t),
             mass: congruence(&m, &t),
+            damping: None,
         })
     }
 

@@ -4,7 +4,7 @@
 
 use super::{ElementMatrices, SectionForces};
 use crate::dof::Dof;
-use crate::model::{Model, NodeId};
+use crate::model::{Model, NodeId, Rayleigh};
 use crate::FemError;
 
 /// The behaviour of one element: its connectivity, its matrices and what
@@ -28,11 +28,27 @@ pub trait ElementBehaviour {
     fn dofs(&self) -> Vec<Dof>;
 
     /// True if the element gives its nodes the DOFs of [`Self::dofs`]
-    /// (it has stiffness). An element that does not (a point mass) only
-    /// loads the DOFs others create: its matrices are over those DOFs of
-    /// [`Self::dofs`] that the model's DOF map holds, in that order.
+    /// (it has stiffness). An element that does not (a point mass, a
+    /// dashpot) only loads the DOFs others create: the assembler drops the
+    /// rows and columns of its DOFs the model does not have, as it drops
+    /// fixed ones, and carries those a coupling eliminated through the
+    /// coupling's constraint, as for every element.
     fn creates_dofs(&self) -> bool {
         true
+    }
+
+    /// True if [`Self::matrices`] gives a damping matrix of the element's
+    /// own ([`ElementMatrices::damping`]: a dashpot). The default: none.
+    fn has_damping(&self) -> bool {
+        false
+    }
+
+    /// Rayleigh damping of the element's material (Abaqus `*DAMPING,
+    /// ALPHA=, BETA=`): [`Element::matrices`](super::Element::matrices)
+    /// adds `alpha M_e + beta K_e` to the element's damping matrix. The
+    /// default: none.
+    fn material_damping(&self) -> Option<Rayleigh> {
+        None
     }
 
     /// Checks the element's geometry and data (length, orientation,
@@ -42,7 +58,9 @@ pub trait ElementBehaviour {
         Ok(())
     }
 
-    /// Stiffness and mass in global DOFs, symmetric.
+    /// Stiffness, mass and (dashpots) damping in global DOFs, symmetric;
+    /// material damping is added by
+    /// [`Element::matrices`](super::Element::matrices), not here.
     fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError>;
 
     /// True if [`Self::section_forces`] gives section forces (beams).

@@ -11,6 +11,7 @@
 pub mod beam;
 mod behaviour;
 mod bending;
+pub mod dashpot;
 pub mod planar_beam;
 pub mod point_mass;
 mod registry;
@@ -19,6 +20,7 @@ pub mod spring;
 
 pub use beam::Beam;
 pub use behaviour::{ElementBehaviour, VtkCell};
+pub use dashpot::{AxialDashpot, Dashpot};
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
 pub use registry::{element_types, ElementType, SectionKind, SectionValues};
@@ -72,25 +74,34 @@ element_kinds! {
     Spring(Spring),
     /// Spring along the line between two nodes (CalculiX SPRINGA).
     AxialSpring(AxialSpring),
+    /// Viscous dashpot on one DOF to ground or between two DOFs.
+    Dashpot(Dashpot),
+    /// Viscous dashpot along the line between two nodes (DASHPOTA).
+    AxialDashpot(AxialDashpot),
     /// Solid element (C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6).
     Solid(Solid),
 }
 
 /// The element types decks name, the rows of every element file, in the
-/// order the deck reader lists them: solids, beams, masses, springs.
+/// order the deck reader lists them: solids, beams, masses, springs,
+/// dashpots.
 pub static ELEMENT_TYPES: &[&[ElementType]] = &[
     solid::ELEMENT_TYPES,
     beam::ELEMENT_TYPES,
     point_mass::ELEMENT_TYPES,
     spring::ELEMENT_TYPES,
+    dashpot::ELEMENT_TYPES,
 ];
 
-/// Element matrices in the element's global DOFs.
+/// Element matrices in the element's global DOFs: stiffness K_e, mass M_e
+/// and viscous damping D_e (report eq. 1), all in the order of `dofs`.
 #[derive(Clone, Debug)]
 pub struct ElementMatrices {
     pub dofs: Vec<Dof>,
     pub stiffness: Mat<f64>,
     pub mass: Mat<f64>,
+    /// `None`: the element adds nothing to D.
+    pub damping: Option<Mat<f64>>,
 }
 
 /// Section forces at both ends of a beam element, in its local frame, as the
@@ -134,10 +145,30 @@ impl Element {
         self.behaviour().validate(model)
     }
 
-    /// Stiffness and mass in global DOFs. Point masses return only the DOFs
-    /// the model has at their node.
+    /// Stiffness, mass and damping in global DOFs. The damping matrix is
+    /// the element's own (a dashpot's) plus `alpha M_e + beta K_e` of its
+    /// material's Rayleigh damping ([`ElementBehaviour::material_damping`]).
     pub fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
-        self.behaviour().matrices(model)
+        let behaviour = self.behaviour();
+        let mut em = behaviour.matrices(model)?;
+        if let Some(r) = behaviour.material_damping() {
+            let (m, k) = (&em.mass, &em.stiffness);
+            let rayleigh = Mat::from_fn(m.nrows(), m.ncols(), |i, j| {
+                r.alpha * m[(i, j)] + r.beta * k[(i, j)]
+            });
+            em.damping = Some(match em.damping {
+                Some(own) => own + rayleigh,
+                None => rayleigh,
+            });
+        }
+        Ok(em)
+    }
+
+    /// True if [`Self::matrices`] gives a damping matrix: a dashpot, or an
+    /// element whose material has Rayleigh damping.
+    pub fn has_damping(&self) -> bool {
+        let b = self.behaviour();
+        b.has_damping() || b.material_damping().is_some()
     }
 
     /// True if the element has section forces (beams).

@@ -66,6 +66,10 @@ impl ElementBehaviour for PlanarBeam {
         self.id
     }
 
+    fn material_damping(&self) -> Option<crate::model::Rayleigh> {
+        self.properties.material.damping
+    }
+
     fn nodes(&self) -> Vec<NodeId> {
         self.nodes.to_vec()
     }
@@ -85,6 +89,7 @@ impl ElementBehaviour for PlanarBeam {
             dofs: self.dofs(),
             stiffness,
             mass,
+            damping: None,
         })
     }
 

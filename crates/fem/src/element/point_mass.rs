@@ -56,33 +56,21 @@ impl ElementBehaviour for PointMass {
         false
     }
 
-    /// Mass on the node's existing DOFs (translations: `mass`, rotations:
-    /// the inertia tensor restricted to the rotations present).
-    fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
-        let present: Vec<DofKind> = model
-            .dof_map()
-            .node_dofs(self.node)
-            .into_iter()
-            .map(|(k, _)| k)
-            .collect();
+    /// Mass on the node's six DOFs (translations: `mass`, rotations: the
+    /// inertia tensor); the assembler drops those the model does not have.
+    fn matrices(&self, _model: &Model) -> Result<ElementMatrices, FemError> {
         let [ixx, iyy, izz, ixy, iyz, ixz] = self.inertia;
         let tensor = [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]];
-        let n = present.len();
-        let mass = Mat::from_fn(n, n, |i, j| {
-            let (a, b) = (present[i], present[j]);
-            match (a.is_rotation(), b.is_rotation()) {
-                (false, false) if a == b => self.mass,
-                (true, true) => tensor[a.index() - 3][b.index() - 3],
-                _ => 0.0,
-            }
+        let mass = Mat::from_fn(6, 6, |i, j| match (i < 3, j < 3) {
+            (true, true) if i == j => self.mass,
+            (false, false) => tensor[i - 3][j - 3],
+            _ => 0.0,
         });
         Ok(ElementMatrices {
-            dofs: present
-                .into_iter()
-                .map(|k| Dof::new(self.node, k))
-                .collect(),
-            stiffness: Mat::zeros(n, n),
+            dofs: self.dofs(),
+            stiffness: Mat::zeros(6, 6),
             mass,
+            damping: None,
         })
     }
 

@@ -65,6 +65,9 @@ pub enum SectionKind {
     /// A stiffness and `dofs` DOF numbers (`*SPRING`; 0 for a spring along
     /// the line between its nodes).
     Spring { dofs: usize },
+    /// A damping coefficient and `dofs` DOF numbers (`*DASHPOT`; 0 for a
+    /// dashpot along the line between its nodes).
+    Dashpot { dofs: usize },
 }
 
 /// The values a section gives an element.
@@ -89,6 +92,12 @@ pub enum SectionValues {
         /// Stiffness (N/m, or N m/rad on rotations).
         stiffness: f64,
     },
+    Dashpot {
+        /// The DOF at the first and the second node (dashpots between DOFs).
+        dofs: [Option<DofKind>; 2],
+        /// Viscous damping coefficient (N s/m, or N m s/rad on rotations).
+        coefficient: f64,
+    },
 }
 
 impl SectionValues {
@@ -99,6 +108,9 @@ impl SectionValues {
             SectionValues::Beam { .. } => SectionKind::Beam,
             SectionValues::Mass { .. } => SectionKind::Mass,
             SectionValues::Spring { dofs, .. } => SectionKind::Spring {
+                dofs: dofs.iter().flatten().count(),
+            },
+            SectionValues::Dashpot { dofs, .. } => SectionKind::Dashpot {
                 dofs: dofs.iter().flatten().count(),
             },
         }

@@ -115,6 +115,7 @@ impl ElementBehaviour for Spring {
             dofs,
             stiffness,
             mass: Mat::zeros(n, n),
+            damping: None,
         })
     }
 
@@ -176,6 +177,7 @@ impl ElementBehaviour for AxialSpring {
             dofs: self.dofs(),
             stiffness,
             mass: Mat::zeros(6, 6),
+            damping: None,
         })
     }
 

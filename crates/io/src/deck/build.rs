@@ -1,12 +1,13 @@
 //! From the cards read to a checked [`Model`]: sets resolved, properties
-//! assigned to elements, fixed DOFs filtered, and every error of
+//! assigned to elements, fixed DOFs filtered, damping checked (see
+//! [`check_damping`]), and every error of
 //! building the [`Model`] and of [`Element::validate`] mapped to the deck line of the
 //! element, node or boundary condition.
 
 use super::cards::{Files, Loc};
 use super::constraints;
 use super::keywords::{property_keyword, Reader};
-use super::properties::{spring_properties, RawSection, SectionData, SpringProperties};
+use super::properties::{discrete_properties, DiscreteProperties, RawSection, SectionData};
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind, SectionValues};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
@@ -44,6 +45,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         dcoup,
         element_surfaces,
         ties,
+        modal_rayleigh,
         ..
     } = reader;
 
@@ -122,7 +124,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         files,
         materials: &materials,
         built: HashMap::new(),
-        springs: HashMap::new(),
+        discrete: HashMap::new(),
     };
     let mut elements = Vec::with_capacity(raw.len());
     let mut element_loc: IdMap<usize, Loc> = id_map(raw.len());
@@ -289,13 +291,22 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &mut constraint_loc,
     )?;
     equations.extend(tied.equations);
-    let model = Model::of(nodes, elements)
+    check_damping(
+        files,
+        &materials,
+        &props.built,
+        modal_rayleigh,
+        &mut warnings,
+    )?;
+    let mut parts = Model::of(nodes, elements)
         .node_sets(node_sets)
         .fixed(kept)
         .couplings(coupled)
-        .equations(equations)
-        .build()
-        .map_err(|err| {
+        .equations(equations);
+    if let Some((rayleigh, _)) = modal_rayleigh {
+        parts = parts.rayleigh(rayleigh);
+    }
+    let model = parts.build().map_err(|err| {
             let loc = match &err {
                 FemError::UnknownNode { element, .. }
                 | FemError::ZeroLength { element }
@@ -313,7 +324,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                 _ => None,
             };
             files.error_near(loc, err.to_string())
-        })?;
+    })?;
     // Every element's geometry in parallel; the first bad one (in the
     // model's order) is the error.
     let bad = model
@@ -324,6 +335,7 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
     if let Some((id, err)) = bad {
         return Err(files.error_near(element_loc.get(&id).copied(), err.to_string()));
     }
+    check_dashpot_ends(files, &model, &fixed, &element_loc)?;
     Ok(Built {
         model,
         element_sets,
@@ -337,12 +349,101 @@ fn unique<T: Copy + Eq + std::hash::Hash>(ids: impl Iterator<Item = T>) -> Vec<T
     ids.filter(|id| seen.insert(*id)).collect()
 }
 
-/// Materials and spring data, checked once per use.
+/// Material Rayleigh damping (`*DAMPING, ALPHA=, BETA=`) is applied per
+/// material, as Abaqus does. Two things are checked against the used
+/// materials:
+/// - with `*MODAL DAMPING, RAYLEIGH` too, the deck is refused: CalculiX
+///   2.20 keeps one global alpha and beta (the card read last wins), and
+///   Abaqus applies the two to different procedures; adding them would be
+///   neither;
+/// - where the used materials' damping differs (one damped, another not, or
+///   other values), a warning says so: CalculiX 2.20 applies the `*DAMPING`
+///   read last to the whole model.
+fn check_damping(
+    files: &Files,
+    materials: &[super::properties::RawMaterial],
+    used: &HashMap<String, Material>,
+    modal: Option<(flexbody_fem::Rayleigh, Loc)>,
+    warnings: &mut Vec<String>,
+) -> Result<(), InputError> {
+    let damped: Vec<(&str, flexbody_fem::Rayleigh, Loc)> = materials
+        .iter()
+        .filter(|m| used.contains_key(&m.name))
+        .filter_map(|m| m.damping.map(|(r, loc)| (m.name.as_str(), r, loc)))
+        .collect();
+    let Some(&(name, first, loc)) = damped.first() else {
+        return Ok(());
+    };
+    if let Some((_, modal_loc)) = modal {
+        return Err(files.error(
+            modal_loc,
+            format!(
+                "*MODAL DAMPING, RAYLEIGH and the material damping of '{name}' (*DAMPING on {}) \
+                 are both given: CalculiX keeps only the one read last, Abaqus applies them \
+                 to different procedures; give one of them",
+                files.describe(loc)
+            ),
+        ));
+    }
+    let uniform = damped.len() == used.len() && damped.iter().all(|(_, r, _)| *r == first);
+    if !uniform {
+        warnings.push(format!(
+            "*DAMPING ({}): the materials' Rayleigh damping differs ({} of {} used materials \
+             damped); it is applied per material, as in Abaqus (CalculiX 2.20 applies the \
+             *DAMPING read last to the whole model)",
+            files.describe(loc),
+            damped.len(),
+            used.len()
+        ));
+    }
+    Ok(())
+}
+
+/// A dashpot creates no DOFs: each of its nodes must have some of the DOFs
+/// it acts on from other elements or couplings, or be held by a
+/// `*BOUNDARY` (a grounded end, whose fixed DOFs were dropped because no
+/// element gives them). Else the dashpot's line is the error: the node
+/// would be held without the deck saying so.
+fn check_dashpot_ends(
+    files: &Files,
+    model: &Model,
+    fixed: &[(Dof, Loc)],
+    element_loc: &IdMap<usize, Loc>,
+) -> Result<(), InputError> {
+    let held: IdSet<NodeId> = fixed.iter().map(|(d, _)| d.node).collect();
+    let fixed_in_model: HashSet<Dof> = model.fixed_dofs().copied().collect();
+    for e in model.elements().iter().filter(|e| !e.creates_dofs()) {
+        if matches!(e, Element::PointMass(_)) {
+            continue;
+        }
+        let dofs = e.dofs();
+        for node in e.nodes() {
+            let has = dofs
+                .iter()
+                .filter(|d| d.node == node)
+                .any(|d| fixed_in_model.contains(d) || !model.terms(*d).is_empty());
+            if !has && !held.contains(&node) {
+                return Err(files.error_near(
+                    element_loc.get(&e.id()).copied(),
+                    format!(
+                        "element {}: node {node} has none of the DOFs the dashpot acts on (a \
+                         dashpot creates no DOFs: no other element or coupling gives them) and \
+                         no *BOUNDARY holds it; connect the node, or fix it to ground the dashpot",
+                        e.id()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Materials and spring and dashpot data, checked once per use.
 struct Properties<'a> {
     files: &'a Files,
     materials: &'a [super::properties::RawMaterial],
     built: HashMap<String, Material>,
-    springs: HashMap<(usize, &'static str), SpringProperties>,
+    discrete: HashMap<(usize, &'static str), DiscreteProperties>,
 }
 
 impl Properties<'_> {
@@ -375,7 +476,7 @@ impl Properties<'_> {
                 format!("material '{name}' has no *DENSITY; the mass matrix needs it ({used})"),
             )
         })?;
-        let material = Material::new(e, nu, rho).map_err(|err| {
+        let mut material = Material::new(e, nu, rho).map_err(|err| {
             let loc = if rho.is_finite() && rho >= 0.0 {
                 elastic_loc
             } else {
@@ -383,6 +484,11 @@ impl Properties<'_> {
             };
             files.error(loc, format!("material '{name}': {err}"))
         })?;
+        if let Some((rayleigh, loc)) = m.damping {
+            material = material
+                .with_damping(rayleigh)
+                .map_err(|err| files.error(loc, format!("material '{name}': {err}")))?;
+        }
         self.built.insert(name.clone(), material.clone());
         Ok(material)
     }
@@ -406,30 +512,40 @@ impl Properties<'_> {
             },
             SectionData::Mass(mass) => SectionValues::Mass { mass: *mass },
             SectionData::Spring(_) => {
-                let p = self.spring(si, s, kind)?;
+                let p = self.discrete(si, s, kind)?;
                 SectionValues::Spring {
                     dofs: [p.first, p.second],
-                    stiffness: p.stiffness,
+                    stiffness: p.value,
+                }
+            }
+            SectionData::Dashpot(_) => {
+                let p = self.discrete(si, s, kind)?;
+                SectionValues::Dashpot {
+                    dofs: [p.first, p.second],
+                    coefficient: p.value,
                 }
             }
         })
     }
 
-    /// The DOFs and stiffness of springs of type `kind` under section `si`.
-    fn spring(
+    /// The DOFs and stiffness or coefficient of springs or dashpots of type
+    /// `kind` under section `si`.
+    fn discrete(
         &mut self,
         si: usize,
         s: &RawSection,
         kind: &'static ElementType,
-    ) -> Result<SpringProperties, InputError> {
-        if let Some(p) = self.springs.get(&(si, kind.name)) {
+    ) -> Result<DiscreteProperties, InputError> {
+        if let Some(p) = self.discrete.get(&(si, kind.name)) {
             return Ok(*p);
         }
-        let SectionData::Spring(lines) = &s.data else {
-            return Err(self.files.error(s.loc, "*SPRING data expected"));
+        let (SectionData::Spring(lines) | SectionData::Dashpot(lines)) = &s.data else {
+            return Err(self
+                .files
+                .error(s.loc, format!("{} data expected", s.keyword)));
         };
-        let p = spring_properties(self.files, s.loc, lines, kind)?;
-        self.springs.insert((si, kind.name), p);
+        let p = discrete_properties(self.files, s.loc, lines, kind)?;
+        self.discrete.insert((si, kind.name), p);
         Ok(p)
     }
 }

@@ -11,7 +11,7 @@ use super::steps::StepAction;
 use super::unknown::{DeckOptions, UnknownKeywords};
 use crate::InputError;
 use flexbody_fem::element::{element_types, ElementType, SectionKind};
-use flexbody_fem::{Dof, DofKind, Node, NodeId};
+use flexbody_fem::{Dof, DofKind, Node, NodeId, Rayleigh};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Most ids one `GENERATE` line may produce.
@@ -42,6 +42,7 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
         SectionKind::Beam => "*BEAM SECTION",
         SectionKind::Mass => "*MASS",
         SectionKind::Spring { .. } => "*SPRING",
+        SectionKind::Dashpot { .. } => "*DASHPOT",
     }
 }
 
@@ -117,6 +118,8 @@ pub(super) struct Reader<'a> {
     pub distributing: Vec<super::constraints::RawDistributing>,
     /// DCOUP3D elements: id -> (reference node, line).
     pub dcoup: BTreeMap<usize, (NodeId, Loc)>,
+    /// The model's Rayleigh damping of `*MODAL DAMPING, RAYLEIGH`.
+    pub modal_rayleigh: Option<(Rayleigh, Loc)>,
     /// Unknown keywords skipped under `allow_unknown`.
     pub unknown: UnknownKeywords,
     options: DeckOptions,
@@ -152,6 +155,7 @@ impl<'a> Reader<'a> {
             rigid_bodies: Vec::new(),
             distributing: Vec::new(),
             dcoup: BTreeMap::new(),
+            modal_rayleigh: None,
             unknown: UnknownKeywords {
                 deck: files.paths[0].clone(),
                 keywords: Vec::new(),
@@ -188,6 +192,9 @@ impl<'a> Reader<'a> {
                 "BEAMSECTION" => self.beam_section(card)?,
                 "MASS" => self.mass(card)?,
                 "SPRING" => self.spring(card)?,
+                "DASHPOT" => self.dashpot(card)?,
+                "DAMPING" => self.damping(card)?,
+                "MODALDAMPING" => self.modal_damping(card)?,
                 "INSTANCE" => self.instance(card)?,
                 "SURFACE" => self.surface(card)?,
                 "COUPLING" => self.coupling(card)?,

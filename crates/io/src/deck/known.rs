@@ -17,6 +17,9 @@ pub(super) const READ: &[&str] = &[
     "BEAM SECTION",
     "MASS",
     "SPRING",
+    "DASHPOT",
+    "DAMPING",
+    "MODAL DAMPING",
     "INSTANCE",
     "SURFACE",
     "COUPLING",
@@ -30,9 +33,10 @@ pub(super) const READ: &[&str] = &[
     "TIE",
 ];
 
-/// Keywords skipped with a warning: they do not change the stiffness or
-/// the mass of the linear model (steps, loads, output, thermal and
-/// nonlinear material data, definitions only used by refused keywords).
+/// Keywords skipped with a warning: they do not change the stiffness, the
+/// mass or the damping of the linear model (steps, loads, output, thermal
+/// and nonlinear material data, definitions only used by refused keywords).
+/// `*FREQUENCY` and `*STATIC` ignore damping, as in CalculiX.
 pub(super) const IGNORED: &[&str] = &[
     "HEADING",
     "PREPRINT",
@@ -89,8 +93,6 @@ pub(super) const IGNORED: &[&str] = &[
     "PLASTIC",
     "CYCLICHARDENING",
     "CREEP",
-    "DAMPING",
-    "MODALDAMPING",
     "DEPVAR",
     "SELECTCYCLICSYMMETRYMODES",
     "PART",
@@ -121,7 +123,6 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
     ("SYSTEM", "node coordinates"),
     ("ROTARYINERTIA", "mass matrix"),
     ("NONSTRUCTURALMASS", "mass matrix"),
-    ("DASHPOT", "damping matrix"),
     ("USERELEMENT", "stiffness and mass matrices"),
     ("USERMATERIAL", "stiffness matrix (material)"),
     ("HYPERELASTIC", "stiffness matrix (material)"),

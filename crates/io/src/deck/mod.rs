@@ -16,13 +16,16 @@
 //! | keyword | reading |
 //! | --- | --- |
 //! | `*NODE` (`NSET=`) | `id, x, y, z`; missing coordinates are 0 |
-//! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2; any other type is an error |
+//! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2, DASHPOTA, DASHPOT1, DASHPOT2; any other type is an error |
 //! | `*NSET`, `*ELSET` | ids, names of sets defined before, or `GENERATE` (`first, last[, step]`) |
 //! | `*MATERIAL, NAME=` + `*ELASTIC` (isotropic `E, nu`) + `*DENSITY` | one data line each; other `TYPE=`s and temperature tables are errors; a material used without `*DENSITY` is an error (the mass matrix needs it) |
+//! | `*DAMPING, ALPHA=, BETA=` (in a `*MATERIAL`) | Rayleigh damping of the material, as Abaqus reads it: each of its elements adds `alpha M_e + beta K_e` to D; materials damped differently get a warning (CalculiX 2.20 applies the `*DAMPING` read last to the whole model); `STRUCTURAL=` (hysteretic, a complex stiffness), `COMPOSITE=`, negative values and a data line are errors |
 //! | `*SOLID SECTION, ELSET=, MATERIAL=` | the data line is ignored; every solid needs one |
 //! | `*BEAM SECTION, ELSET=, MATERIAL=, SECTION=` | RECT `a, b`; CIRC `r`; PIPE `r, t` (outer radius, wall); BOX `a, b, t1..t4` (equal walls only); second line n1 = local y, default `(0, 0, -1)`; a along local 1 (y), b along local 2 (z) |
 //! | `*MASS, ELSET=` | mass (kg) of MASS elements |
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
+//! | `*DASHPOT, ELSET=` | DASHPOTA: (a blank line, then) `c, frequency` with c in N s/m along the line between the nodes; DASHPOT1: DOF, then `c`; DASHPOT2: two DOFs, then `c`; into D only. A dashpot creates no DOFs: each end needs DOFs from other elements or couplings, or a `*BOUNDARY` (a grounded end). Negative `c`, a non-zero frequency (frequency-dependent), several lines (temperature tables), `NONLINEAR` and `ORIENTATION` are errors |
+//! | `*MODAL DAMPING, RAYLEIGH` (in a step) | the model's Rayleigh damping `D = alpha M + beta K` from the CalculiX data line `first mode, last mode, alpha, beta` (the modes are not used; a line without the third and fourth field is an error, as CalculiX would read alpha = beta = 0); with material `*DAMPING` too, or a second one with other values, an error; damping ratios per mode range (no `RAYLEIGH`) are an error: they are no matrix of the FE model |
 //! | `*SURFACE, NAME=, TYPE=NODE` + `*COUPLING, REF NODE=, SURFACE=` + `*KINEMATIC` (DOFs 1-3 or 1-6) or `*DISTRIBUTING` | an interface point (RBE2 or RBE3) coupled to the surface's nodes; element-based surfaces (`TYPE=ELEMENT`, the default: `element or ELSET, S1..S6`) serve `*TIE`; a MASS element or `*BOUNDARY` may sit on the reference node |
 //! | `*TIE, NAME=[, POSITION TOLERANCE=][, ADJUST=YES/NO]` | `slave surface, master surface`: each slave node (node or element surface) follows the master solid faces' interpolation at its projection ([`flexbody_fem::Tie`]); ADJUST (the default, as CalculiX) moves slave nodes onto the master surface; the default tolerance is 2.5 % of the mean master face size; slave nodes beyond it are named and refused |
 //! | `*BOUNDARY` | `node or NSET, first[, last[, 0]]` or ENCASTRE, PINNED, XSYMM, ...; in the model data and in steps up to the first frequency step (they persist, as in CalculiX); a non-zero value is an error; a DOF no element gives the node (rotations of solid nodes) is dropped with one warning; a coupling's reference node has all six |
@@ -31,7 +34,7 @@
 //! | `*RIGID BODY, REF NODE=, NSET= or ELSET=[, ROT NODE=]` | a rigid coupling of the reference node (6 DOFs) to the members; a `*BOUNDARY` on the ROT NODE's translations fixes the reference node's rotations |
 //! | `*DISTRIBUTING COUPLING, ELSET=` + a DCOUP3D element | a distributing coupling (RBE3) of the element's node to the listed nodes or node sets with their weights |
 //! | steps | the model is the one of the first `*FREQUENCY` step: `*BOUNDARY` and loads of later steps are skipped with one warning; a `*STEP, PERTURBATION` frequency step after a step with loads (`*CLOAD`, `*DLOAD`, `*DSLOAD`, `*TEMPERATURE`) is refused: CalculiX adds the preload's stress stiffening there |
-//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, `*DAMPING`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K or M of the linear model |
+//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K, M or D of the linear model (`*FREQUENCY` ignores damping, as in CalculiX) |
 //! | `*KINEMATIC COUPLING`, `*MATRIX ASSEMBLE`, `*MATRIX INPUT`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
@@ -65,8 +68,9 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug)]
 pub struct Deck {
     pub path: PathBuf,
-    /// Nodes, elements, node sets (upper-case names) and fixed DOFs; no
-    /// damping.
+    /// Nodes, elements (with their dashpots and material damping), node
+    /// sets (upper-case names), fixed DOFs, couplings and the model's
+    /// Rayleigh damping of `*MODAL DAMPING, RAYLEIGH`.
     pub model: flexbody_fem::Model,
     /// Element sets (ELSET name -> element ids), upper-case names.
     pub element_sets: BTreeMap<String, Vec<usize>>,

@@ -1,6 +1,8 @@
-//! Materials (`*MATERIAL`, `*ELASTIC`, `*DENSITY`) and the keywords that give
-//! elements their properties (`*SOLID SECTION`, `*BEAM SECTION`, `*MASS`,
-//! `*SPRING`), as read; they are assigned to elements in `build.rs`.
+//! Materials (`*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*DAMPING`), the
+//! keywords that give elements their properties (`*SOLID SECTION`, `*BEAM
+//! SECTION`, `*MASS`, `*SPRING`, `*DASHPOT`), and the model's Rayleigh
+//! damping (`*MODAL DAMPING, RAYLEIGH`), as read; they are assigned to
+//! elements in `build.rs`.
 //!
 //! Beam sections follow CalculiX/Abaqus: local 1 is the n1 direction of the
 //! second data line (default `(0, 0, -1)`), local 2 is `t x n1`. flexbody's
@@ -12,7 +14,7 @@ use super::keywords::Reader;
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind};
 use flexbody_fem::section::SectionConstants;
-use flexbody_fem::{DofKind, SectionShape};
+use flexbody_fem::{DofKind, Rayleigh, SectionShape};
 
 /// Default n1 direction of a beam section (CalculiX and Abaqus).
 const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
@@ -25,6 +27,8 @@ pub(super) struct RawMaterial {
     pub loc: Loc,
     pub elastic: Option<(f64, f64, Loc)>,
     pub density: Option<(f64, Loc)>,
+    /// Rayleigh damping of `*DAMPING, ALPHA=, BETA=`.
+    pub damping: Option<(Rayleigh, Loc)>,
 }
 
 /// What a property keyword gives its elements.
@@ -39,6 +43,8 @@ pub(super) enum SectionData {
     Mass(f64),
     /// Data lines of `*SPRING`: their layout depends on the spring type.
     Spring(Vec<DataLine>),
+    /// Data lines of `*DASHPOT`: their layout depends on the dashpot type.
+    Dashpot(Vec<DataLine>),
 }
 
 impl SectionData {
@@ -50,6 +56,7 @@ impl SectionData {
                 | (SectionData::Beam { .. }, SectionKind::Beam)
                 | (SectionData::Mass(_), SectionKind::Mass)
                 | (SectionData::Spring(_), SectionKind::Spring { .. })
+                | (SectionData::Dashpot(_), SectionKind::Dashpot { .. })
         )
     }
 }
@@ -65,12 +72,13 @@ pub(super) struct RawSection {
     pub loc: Loc,
 }
 
-/// A spring's DOFs (none for SPRINGA) and stiffness.
+/// A spring's or dashpot's DOFs (none for SPRINGA and DASHPOTA) and its
+/// stiffness (N/m) or damping coefficient (N s/m).
 #[derive(Copy, Clone, Debug)]
-pub(super) struct SpringProperties {
+pub(super) struct DiscreteProperties {
     pub first: Option<DofKind>,
     pub second: Option<DofKind>,
-    pub stiffness: f64,
+    pub value: f64,
 }
 
 impl Reader<'_> {
@@ -91,6 +99,7 @@ impl Reader<'_> {
             loc: card.loc,
             elastic: None,
             density: None,
+            damping: None,
         });
         self.current_material = Some(self.materials.len() - 1);
         Ok(())
@@ -169,6 +178,139 @@ impl Reader<'_> {
             ));
         }
         self.materials[m].density = Some((rho, line.loc));
+        Ok(())
+    }
+
+    /// `*DAMPING, ALPHA=, BETA=` (Abaqus material Rayleigh damping, no
+    /// data line). `STRUCTURAL=` (hysteretic damping, CalculiX's form) and
+    /// `COMPOSITE=` are refused: flexbody's D is viscous.
+    pub(super) fn damping(&mut self, card: &Card) -> Result<(), InputError> {
+        let files = self.files;
+        if card.has("STRUCTURAL") {
+            return Err(files.error(
+                card.loc,
+                "*DAMPING, STRUCTURAL=: structural (hysteretic) damping is a complex \
+                 stiffness, which flexbody's viscous damping matrix D cannot hold; give \
+                 viscous Rayleigh damping with *DAMPING, ALPHA=..., BETA=... (for a loss \
+                 factor g near the frequency f: BETA = g / (2 pi f))",
+            ));
+        }
+        if card.has("COMPOSITE") {
+            return Err(files.error(
+                card.loc,
+                "*DAMPING, COMPOSITE=: composite modal damping is not supported \
+                 (give ALPHA= and BETA=)",
+            ));
+        }
+        self.check_params(card, &["ALPHA", "BETA"]);
+        let m = self
+            .current_material
+            .ok_or_else(|| files.error(card.loc, "*DAMPING must follow a *MATERIAL line"))?;
+        if let Some(line) = card.data.first() {
+            return Err(files.error(
+                line.loc,
+                "*DAMPING takes no data line (give ALPHA= and BETA= on the keyword line)",
+            ));
+        }
+        let name = self.materials[m].name.clone();
+        let coefficient = |key: &str| -> Result<f64, InputError> {
+            let Some(v) = card.value(key) else {
+                return Ok(0.0);
+            };
+            let what = format!("*DAMPING of material '{name}': {key}");
+            let x = super::cards::parse_float(v).ok_or_else(|| {
+                files.error(card.loc, format!("{what} should be a number, got '{v}'"))
+            })?;
+            flexbody_fem::require_non_negative(what, x)
+                .map_err(|e| files.error(card.loc, e.to_string()))
+        };
+        let (alpha, beta) = (coefficient("ALPHA")?, coefficient("BETA")?);
+        if !card.has("ALPHA") && !card.has("BETA") {
+            return Err(files.error(
+                card.loc,
+                format!("*DAMPING of material '{name}' gives neither ALPHA= nor BETA="),
+            ));
+        }
+        if let Some((_, first)) = self.materials[m].damping {
+            return Err(files.error(
+                card.loc,
+                format!(
+                    "material '{name}' has two *DAMPING cards (first on {})",
+                    files.describe(first)
+                ),
+            ));
+        }
+        self.materials[m].damping = Some((Rayleigh { alpha, beta }, card.loc));
+        Ok(())
+    }
+
+    /// `*MODAL DAMPING, RAYLEIGH` (CalculiX, in a step): the model's
+    /// Rayleigh damping `D = alpha M + beta K` from the data line `first
+    /// mode, last mode, alpha, beta` (the modes are not used). Damping
+    /// ratios per mode range (without `RAYLEIGH`) are refused: they are not
+    /// a damping matrix of the FE model.
+    pub(super) fn modal_damping(&mut self, card: &Card) -> Result<(), InputError> {
+        let files = self.files;
+        if !card.has("RAYLEIGH") {
+            return Err(files.error(
+                card.loc,
+                "*MODAL DAMPING with damping ratios per mode range is not supported: the \
+                 ratios belong to the modes of the full model, not to a damping matrix D \
+                 that a reduced body keeps; give *MODAL DAMPING, RAYLEIGH (alpha M + beta K), \
+                 or damping ratios of the reduced body's modes in the model file \
+                 (`modal_damping` of `[simulation]`)",
+            ));
+        }
+        self.check_params(card, &["RAYLEIGH"]);
+        let layout = "the data line is 'first mode, last mode, alpha, beta' (the modes are \
+                      not used)";
+        let line = match card.data.as_slice() {
+            [line] => line,
+            [] => {
+                return Err(files.error(
+                    card.loc,
+                    format!("*MODAL DAMPING, RAYLEIGH has no data line ({layout})"),
+                ))
+            }
+            [_, second, ..] => {
+                return Err(files.error(
+                    second.loc,
+                    format!("*MODAL DAMPING, RAYLEIGH: one data line expected ({layout})"),
+                ))
+            }
+        };
+        if line.get(2).is_none_or(str::is_empty) && line.get(3).is_none_or(str::is_empty) {
+            return Err(files.error(
+                line.loc,
+                format!(
+                    "*MODAL DAMPING, RAYLEIGH: alpha and beta are missing: {layout}, so \
+                     'alpha, beta' alone would be read as alpha = beta = 0"
+                ),
+            ));
+        }
+        let value = |i: usize, what: &str| -> Result<f64, InputError> {
+            let what = format!("*MODAL DAMPING, RAYLEIGH: {what}");
+            let x = line.float_or(files, i, &what, 0.0)?;
+            flexbody_fem::require_non_negative(what, x)
+                .map_err(|e| files.error(line.loc, e.to_string()))
+        };
+        let rayleigh = Rayleigh {
+            alpha: value(2, "alpha (1/s, on M)")?,
+            beta: value(3, "beta (s, on K)")?,
+        };
+        if let Some((first, loc)) = self.modal_rayleigh {
+            if first != rayleigh {
+                return Err(files.error(
+                    card.loc,
+                    format!(
+                        "a second *MODAL DAMPING, RAYLEIGH with other values (first on {}): \
+                         flexbody's model has one damping matrix for all steps",
+                        files.describe(loc)
+                    ),
+                ));
+            }
+        }
+        self.modal_rayleigh = Some((rayleigh, card.loc));
         Ok(())
     }
 
@@ -293,6 +435,24 @@ impl Reader<'_> {
         }
         self.push_section(card, None, SectionData::Spring(card.data.clone()))
     }
+
+    pub(super) fn dashpot(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["ELSET"]);
+        if card.has("NONLINEAR") {
+            return Err(self.files.error(
+                card.loc,
+                "*DASHPOT, NONLINEAR: not supported (give a linear coefficient)",
+            ));
+        }
+        if card.has("ORIENTATION") {
+            return Err(self.files.error(
+                card.loc,
+                "*DASHPOT, ORIENTATION: not supported; ignoring it would change the \
+                 damping matrix (dashpot DOFs in local directions)",
+            ));
+        }
+        self.push_section(card, None, SectionData::Dashpot(card.data.clone()))
+    }
 }
 
 /// The cross-section of `*BEAM SECTION, SECTION=kind` from its first data line.
@@ -353,26 +513,31 @@ fn beam_shape(
     })
 }
 
-/// Reads the `*SPRING` data lines (`card_loc`: the `*SPRING` line) for
-/// springs of type `kind`, by the number of DOFs its section names:
-/// none (SPRINGA): stiffness; one (SPRING1): DOF, then stiffness; two
-/// (SPRING2): two DOFs, then stiffness (CalculiX manual, `*SPRING`; the
-/// blank first line of SPRINGA is dropped with the other blank lines).
-pub(super) fn spring_properties(
+/// Reads the `*SPRING` or `*DASHPOT` data lines (`card_loc`: the keyword
+/// line) for elements of type `kind`, by the number of DOFs its section
+/// names: none (SPRINGA, DASHPOTA): the value; one (SPRING1, DASHPOT1):
+/// DOF, then the value; two (SPRING2, DASHPOT2): two DOFs, then the value
+/// (CalculiX and Abaqus manuals, `*SPRING` and `*DASHPOT`; the blank first
+/// line of SPRINGA and DASHPOTA is dropped with the other blank lines).
+/// The value of a spring is its stiffness (N/m, positive); of a dashpot its
+/// coefficient (N s/m, not negative), whose second field, a frequency, must
+/// be empty or 0: frequency-dependent dashpots are refused.
+pub(super) fn discrete_properties(
     files: &Files,
     card_loc: Loc,
     lines: &[DataLine],
     kind: &ElementType,
-) -> Result<SpringProperties, InputError> {
-    let dof_count = match kind.section {
-        SectionKind::Spring { dofs } => dofs.min(2),
-        _ => 0,
+) -> Result<DiscreteProperties, InputError> {
+    let (keyword, value_name, dof_count) = match kind.section {
+        SectionKind::Dashpot { dofs } => ("*DASHPOT", "coefficient", dofs.min(2)),
+        SectionKind::Spring { dofs } => ("*SPRING", "stiffness", dofs.min(2)),
+        _ => ("*SPRING", "stiffness", 0),
     };
     let expected = if dof_count == 0 { 1 } else { 2 };
     let layout = match dof_count {
-        0 => "one line with the stiffness",
-        1 => "a line with the DOF (1-6), then a line with the stiffness",
-        _ => "a line with the two DOFs (1-6), then a line with the stiffness",
+        0 => format!("one line with the {value_name}"),
+        1 => format!("a line with the DOF (1-6), then a line with the {value_name}"),
+        _ => format!("a line with the two DOFs (1-6), then a line with the {value_name}"),
     };
     let layout = format!("for {}: {layout}", kind.name);
     if lines.len() != expected {
@@ -380,8 +545,8 @@ pub(super) fn spring_properties(
         return Err(files.error(
             loc,
             format!(
-                "*SPRING: {} data lines, expected {expected} ({layout}; \
-                 temperature-dependent springs are not supported)",
+                "{keyword}: {} data lines, expected {expected} ({layout}; \
+                 temperature-dependent values are not supported)",
                 lines.len()
             ),
         ));
@@ -391,26 +556,42 @@ pub(super) fn spring_properties(
         let line = &lines[0];
         let given = line.fields.iter().filter(|f| !f.is_empty()).count();
         if given != dof_count {
-            return Err(files.error(line.loc, format!("*SPRING: expected {layout}")));
+            return Err(files.error(line.loc, format!("{keyword}: expected {layout}")));
         }
         for (k, d) in dofs.iter_mut().take(dof_count).enumerate() {
-            let dof = line.id(files, k, "*SPRING: DOF")?;
+            let dof = line.id(files, k, &format!("{keyword}: DOF"))?;
             if !(1..=6).contains(&dof) {
                 return Err(files.error(
                     line.loc,
-                    format!("*SPRING: DOF {dof}: only DOFs 1 to 6 (ux uy uz rx ry rz)"),
+                    format!("{keyword}: DOF {dof}: only DOFs 1 to 6 (ux uy uz rx ry rz)"),
                 ));
             }
             *d = Some(DofKind::ALL[dof as usize - 1]);
         }
     }
     let line = &lines[expected - 1];
-    let stiffness = line.float(files, 0, "*SPRING: stiffness")?;
-    flexbody_fem::require_positive("*SPRING: stiffness", stiffness)
-        .map_err(|e| files.error(line.loc, e.to_string()))?;
-    Ok(SpringProperties {
+    let what = format!("{keyword}: {value_name}");
+    let value = line.float(files, 0, &what)?;
+    if keyword == "*DASHPOT" {
+        flexbody_fem::require_non_negative(format!("{what} (N s/m)"), value)
+            .map_err(|e| files.error(line.loc, e.to_string()))?;
+        let frequency = line.float_or(files, 1, "*DASHPOT: frequency", 0.0)?;
+        if frequency != 0.0 {
+            return Err(files.error(
+                line.loc,
+                format!(
+                    "*DASHPOT: frequency {frequency}: frequency-dependent dashpots are not \
+                     supported (leave the second field empty)"
+                ),
+            ));
+        }
+    } else {
+        flexbody_fem::require_positive(what, value)
+            .map_err(|e| files.error(line.loc, e.to_string()))?;
+    }
+    Ok(DiscreteProperties {
         first: dofs[0],
         second: dofs[1],
-        stiffness,
+        value,
     })
 }

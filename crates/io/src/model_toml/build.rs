@@ -49,10 +49,19 @@ pub(crate) fn build(
         b.add_node(id, [x, y, z], n.span().start)?;
     }
     b.beam_lines(raw)?;
-    let (unknown, warnings, notes) = match &raw.mesh {
+    let (unknown, mut warnings, notes) = match &raw.mesh {
         Some(mesh) => b.deck_mesh(mesh, options)?,
         None => (UnknownKeywords::default(), Vec::new(), Vec::new()),
     };
+    // `[damping]` replaces the deck's model-wide Rayleigh damping only; the
+    // damping of the deck's elements stays, and the user is told.
+    if raw.damping.is_some() && b.elements.iter().any(Element::has_damping) {
+        warnings.push(format!(
+            "{}: [damping] replaces the deck's *MODAL DAMPING only; the deck's dashpots and \
+             material *DAMPING stay in D, added to it",
+            b.src.path.display()
+        ));
+    }
     // The file's coupling points are nodes from the start: elements (a
     // point mass, a spring) may sit on them.
     let known: HashSet<u64> = b

@@ -225,6 +225,10 @@ impl ElementBehaviour for Solid {
         self.id
     }
 
+    fn material_damping(&self) -> Option<crate::model::Rayleigh> {
+        self.material.damping
+    }
+
     fn nodes(&self) -> Vec<NodeId> {
         self.nodes.clone()
     }
@@ -372,6 +376,7 @@ impl Solid {
             dofs: ElementBehaviour::dofs(self),
             stiffness,
             mass,
+            damping: None,
         })
     }
 

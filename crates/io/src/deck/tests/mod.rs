@@ -6,6 +6,7 @@ use flexbody_fem::element::{AxialSpring, PointMass, SolidKind, Spring};
 use flexbody_fem::{BeamTheory, Dof, DofKind, Element, SectionShape};
 
 mod beams;
+mod damping;
 mod includes;
 mod keywords;
 mod masses;

@@ -17,6 +17,9 @@ fn section_lines(kind: SectionKind) -> &'static str {
         SectionKind::Spring { dofs: 0 } => "1.0e6\n",
         SectionKind::Spring { dofs: 1 } => "2\n1.0e6\n",
         SectionKind::Spring { .. } => "2, 2\n1.0e6\n",
+        SectionKind::Dashpot { dofs: 0 } => "\n2.0e3\n",
+        SectionKind::Dashpot { dofs: 1 } => "2\n2.0e3\n",
+        SectionKind::Dashpot { .. } => "2, 2\n2.0e3, 0.0\n",
     }
 }
 
@@ -45,7 +48,7 @@ fn a_deck_with_every_registered_type_gives_the_elements_the_registry_builds() {
         let params = match t.section {
             SectionKind::Solid => ", MATERIAL=STEEL",
             SectionKind::Beam => ", MATERIAL=STEEL, SECTION=RECT",
-            SectionKind::Mass | SectionKind::Spring { .. } => "",
+            SectionKind::Mass | SectionKind::Spring { .. } | SectionKind::Dashpot { .. } => "",
         };
         let _ = write!(
             text,
