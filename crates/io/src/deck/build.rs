@@ -307,23 +307,23 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         parts = parts.rayleigh(rayleigh);
     }
     let model = parts.build().map_err(|err| {
-            let loc = match &err {
-                FemError::UnknownNode { element, .. }
-                | FemError::ZeroLength { element }
-                | FemError::OrientationParallel { element, .. }
-                | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
-                FemError::MassWithoutDof { node } => raw
-                    .iter()
-                    .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
-                    .map(|e| e.loc),
-                FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
-                FemError::InvalidConstraint { name, .. } => constraint_loc
-                    .get(name)
-                    .or_else(|| coupling_loc.get(name))
-                    .copied(),
-                _ => None,
-            };
-            files.error_near(loc, err.to_string())
+        let loc = match &err {
+            FemError::UnknownNode { element, .. }
+            | FemError::ZeroLength { element }
+            | FemError::OrientationParallel { element, .. }
+            | FemError::InvalidElement { element, .. } => element_loc.get(element).copied(),
+            FemError::MassWithoutDof { node } => raw
+                .iter()
+                .find(|e| e.kind.section == SectionKind::Mass && e.nodes.first() == Some(node))
+                .map(|e| e.loc),
+            FemError::InvalidCoupling { name, .. } => coupling_loc.get(name).copied(),
+            FemError::InvalidConstraint { name, .. } => constraint_loc
+                .get(name)
+                .or_else(|| coupling_loc.get(name))
+                .copied(),
+            _ => None,
+        };
+        files.error_near(loc, err.to_string())
     })?;
     // Every element's geometry in parallel; the first bad one (in the
     // model's order) is the error.
