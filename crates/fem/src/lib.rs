@@ -4,6 +4,7 @@
 //!
 //! Units are SI throughout: m, kg, s, N, Pa, rad.
 
+pub mod anisotropy;
 pub mod assembly;
 pub mod constraint;
 pub mod coupling;
@@ -15,6 +16,7 @@ pub mod model;
 pub mod section;
 pub mod substructure;
 
+pub use anisotropy::{Anisotropy, Orientation};
 pub use assembly::{assemble, SystemMatrices};
 pub use constraint::{Equation, MpcKind};
 pub use coupling::{Coupling, CouplingKind};
@@ -45,6 +47,8 @@ pub enum FemError {
         element: usize,
         orientation: [f64; 3],
     },
+    #[error("material: {0}")]
+    InvalidMaterial(String),
     #[error("{what} must be {rule}, got {value}")]
     InvalidValue {
         what: String,

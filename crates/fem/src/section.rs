@@ -1,12 +1,16 @@
 //! Materials and beam cross-sections (SI units).
 
+use crate::anisotropy::Anisotropy;
 use crate::{require_non_negative, require_positive, FemError};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
-/// Linear isotropic elastic material.
+/// Linear elastic material: isotropic (E, nu), or anisotropic for solids
+/// ([`Material::anisotropy`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
-    /// Young's modulus E (Pa).
+    /// Young's modulus E (Pa); zero and unused if the material is
+    /// anisotropic.
     pub youngs_modulus: f64,
     /// Shear modulus G (Pa).
     pub shear_modulus: f64,
@@ -14,6 +18,10 @@ pub struct Material {
     pub poisson_ratio: f64,
     /// Density (kg/m^3).
     pub density: f64,
+    /// Anisotropic elasticity (solids only): when given, it replaces E, nu
+    /// and G, and beams refuse the material.
+    #[serde(skip)]
+    pub anisotropy: Option<Arc<Anisotropy>>,
 }
 
 impl Material {
@@ -33,6 +41,20 @@ impl Material {
             shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
             poisson_ratio,
             density,
+            anisotropy: None,
+        })
+    }
+
+    /// An anisotropic material for solids: elasticity `anisotropy` (its
+    /// `C` checked by [`Anisotropy::new`]) and density.
+    pub fn anisotropic(anisotropy: Anisotropy, density: f64) -> Result<Self, FemError> {
+        require_non_negative("density", density)?;
+        Ok(Self {
+            youngs_modulus: 0.0,
+            shear_modulus: 0.0,
+            poisson_ratio: 0.0,
+            density,
+            anisotropy: Some(Arc::new(anisotropy)),
         })
     }
 }

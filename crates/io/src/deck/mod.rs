@@ -45,10 +45,12 @@ mod build;
 mod cards;
 mod catalogue;
 mod constraints;
+mod elasticity;
 mod keywords;
 mod known;
 mod properties;
 mod steps;
+mod temperature;
 #[cfg(test)]
 mod tests;
 mod unknown;
