@@ -80,3 +80,71 @@ fn a_cylindrical_orientation_on_a_ring_segment_matches_calculix() {
 fn elastic_and_density_tables_at_the_initial_temperature_match_calculix() {
     matches_calculix("temperature_bar");
 }
+
+/// `flexbody modes` on fixture `name`'s deck with `from` replaced by `to`
+/// exits 2 with all `needles` in its message.
+fn variant_fails_with(name: &str, from: &str, to: &str, needles: &[&str]) {
+    let text = std::fs::read_to_string(fixture_dir(name).join(format!("{name}.inp"))).unwrap();
+    assert!(text.contains(from), "{from}");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("d.inp");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    super::support::fails_with(&["modes", path.to_str().unwrap()], needles);
+}
+
+#[test]
+fn a_missing_anisotropic_constant_names_the_line() {
+    variant_fails_with(
+        "aniso_block",
+        "-4.e9, 9.e9, -3.e9, 5.e9, 60.e9, 0.",
+        "-4.e9, 9.e9, -3.e9, 5.e9",
+        &["d.inp:47:", "COMPOSITE", "constant 21 of 21 is missing"],
+    );
+    // A record short of a line: 2 lines for 3 a record.
+    variant_fails_with(
+        "aniso_block",
+        "-4.e9, 9.e9, -3.e9, 5.e9, 60.e9, 0.\n",
+        "",
+        &["d.inp:46:", "multiple of 3"],
+    );
+}
+
+#[test]
+fn an_unstable_material_names_the_material_and_line() {
+    variant_fails_with(
+        "aniso_block",
+        "210.e9, 60.e9, 180.e9",
+        "210.e9, 600.e9, 180.e9",
+        &["d.inp:45:", "material 'COMPOSITE'", "not positive definite"],
+    );
+}
+
+#[test]
+fn an_unknown_orientation_names_the_section_line() {
+    variant_fails_with(
+        "aniso_block",
+        "ORIENTATION=SKEW",
+        "ORIENTATION=SKEWED",
+        &["d.inp:50:", "orientation 'SKEWED' is not defined"],
+    );
+}
+
+#[test]
+fn temperatures_out_of_order_name_the_line() {
+    variant_fails_with(
+        "temperature_bar",
+        "1.5e11, 0.33, 500.",
+        "1.5e11, 0.33, 150.",
+        &["d.inp:45:", "must increase strictly"],
+    );
+}
+
+#[test]
+fn a_non_uniform_initial_temperature_is_refused() {
+    variant_fails_with(
+        "temperature_bar",
+        "NALL, 310.",
+        "NALL, 310.\n1, 20.",
+        &["differs from 310", "uniform"],
+    );
+}

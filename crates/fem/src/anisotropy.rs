@@ -14,6 +14,9 @@
 //! `C'_ijkl = R_ia R_jb R_kc R_ld C_abcd`, evaluated by four one-index
 //! contractions of the full tensor.
 
+// Tensor index loops read as the equations they implement.
+#![allow(clippy::needless_range_loop)]
+
 use crate::FemError;
 use serde::{Deserialize, Serialize};
 
@@ -94,7 +97,7 @@ impl Orientation {
             Orientation::Rectangular { a, b } => {
                 let e1 = unit(a).ok_or_else(|| invalid("orientation: point a is at the origin"))?;
                 let e2 = sub(b, scale(e1, dot(e1, b)));
-                if !(norm(e2) > 1e-10 * norm(b)) {
+                if norm(e2).is_nan() || norm(e2) <= 1e-10 * norm(b) {
                     return Err(invalid("orientation: points a and b are parallel"));
                 }
                 let e2 = scale(e2, 1.0 / norm(e2));
@@ -209,7 +212,7 @@ impl Anisotropy {
         let det = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[2][1])
             - s[0][1] * (s[1][0] * s[2][2] - s[1][2] * s[2][0])
             + s[0][2] * (s[1][0] * s[2][1] - s[1][1] * s[2][0]);
-        if !(det > 0.0) {
+        if det.is_nan() || det <= 0.0 {
             return Err(invalid(
                 "engineering constants: the Poisson's ratios make the compliance \
                  not positive definite (the material would be unstable)",
@@ -309,7 +312,7 @@ fn cholesky_failure(c: &Voigt) -> Option<usize> {
     let mut l = [[0.0; 6]; 6];
     for j in 0..6 {
         let d = c[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return Some(j);
         }
         l[j][j] = d.sqrt();

@@ -47,7 +47,8 @@ pub enum FemError {
         element: usize,
         orientation: [f64; 3],
     },
-    #[error("material: {0}")]
+    /// An elasticity or orientation that is not usable (the message says why).
+    #[error("{0}")]
     InvalidMaterial(String),
     #[error("{what} must be {rule}, got {value}")]
     InvalidValue {

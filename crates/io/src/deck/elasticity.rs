@@ -108,7 +108,7 @@ impl Table {
         if card.data.is_empty() {
             return Err(files.error(card.loc, format!("{what} has no data line")));
         }
-        if card.data.len() % lines != 0 {
+        if !card.data.len().is_multiple_of(lines) {
             let last = &card.data[card.data.len() - 1];
             return Err(files.error(
                 last.loc,
@@ -123,7 +123,7 @@ impl Table {
         for chunk in card.data.chunks(lines) {
             let record = read_record(files, chunk, constants, what)?;
             if let Some(prev) = records.last() {
-                if !(record.temperature > prev.temperature) {
+                if record.temperature.is_nan() || record.temperature <= prev.temperature {
                     return Err(files.error(
                         record.loc,
                         format!(
@@ -255,9 +255,9 @@ pub(super) fn voigt(kind: ElasticKind, v: &[f64]) -> Result<Voigt, String> {
             // upper triangle.
             const POSITION: [usize; 6] = [0, 1, 2, 3, 5, 4];
             let mut k = 0;
-            for col in 0..6 {
-                for row in 0..=col {
-                    set(POSITION[row], POSITION[col], v[k]);
+            for (col, &pc) in POSITION.iter().enumerate() {
+                for &pr in &POSITION[..=col] {
+                    set(pr, pc, v[k]);
                     k += 1;
                 }
             }
