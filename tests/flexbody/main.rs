@@ -3,6 +3,7 @@
 
 mod calculix;
 mod calculix_constraints;
+mod calculix_materials;
 mod cli;
 mod cli_errors;
 mod cli_lowest_below;

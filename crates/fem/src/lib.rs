@@ -4,6 +4,7 @@
 //!
 //! Units are SI throughout: m, kg, s, N, Pa, rad.
 
+pub mod anisotropy;
 pub mod assembly;
 pub mod constraint;
 pub mod coupling;
@@ -16,6 +17,7 @@ pub mod section;
 pub mod substructure;
 pub mod tie;
 
+pub use anisotropy::{Anisotropy, Orientation};
 pub use assembly::{assemble, SystemMatrices};
 pub use constraint::{Equation, MpcKind};
 pub use coupling::{Coupling, CouplingKind};
@@ -47,6 +49,9 @@ pub enum FemError {
         element: usize,
         orientation: [f64; 3],
     },
+    /// An elasticity or orientation that is not usable (the message says why).
+    #[error("{0}")]
+    InvalidMaterial(String),
     #[error("{what} must be {rule}, got {value}")]
     InvalidValue {
         what: String,

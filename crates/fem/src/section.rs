@@ -1,13 +1,17 @@
 //! Materials and beam cross-sections (SI units).
 
+use crate::anisotropy::Anisotropy;
 use crate::model::Rayleigh;
 use crate::{require_non_negative, require_positive, FemError};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
-/// Linear isotropic elastic material.
+/// Linear elastic material: isotropic (E, nu), or anisotropic for solids
+/// ([`Material::anisotropy`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
-    /// Young's modulus E (Pa).
+    /// Young's modulus E (Pa); zero and unused if the material is
+    /// anisotropic.
     pub youngs_modulus: f64,
     /// Shear modulus G (Pa).
     pub shear_modulus: f64,
@@ -19,6 +23,10 @@ pub struct Material {
     /// each element of it adds `alpha M_e + beta K_e` to D.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<Rayleigh>,
+    /// Anisotropic elasticity (solids only): when given, it replaces E, nu
+    /// and G, and beams refuse the material.
+    #[serde(skip)]
+    pub anisotropy: Option<Arc<Anisotropy>>,
 }
 
 impl Material {
@@ -39,6 +47,7 @@ impl Material {
             poisson_ratio,
             density,
             damping: None,
+            anisotropy: None,
         })
     }
 
@@ -50,6 +59,20 @@ impl Material {
         Ok(Self {
             damping: Some(damping),
             ..self
+        })
+    }
+
+    /// An anisotropic material for solids: elasticity `anisotropy` (its
+    /// `C` checked by [`Anisotropy::new`]) and density.
+    pub fn anisotropic(anisotropy: Anisotropy, density: f64) -> Result<Self, FemError> {
+        require_non_negative("density", density)?;
+        Ok(Self {
+            youngs_modulus: 0.0,
+            shear_modulus: 0.0,
+            poisson_ratio: 0.0,
+            density,
+            damping: None,
+            anisotropy: Some(Arc::new(anisotropy)),
         })
     }
 }

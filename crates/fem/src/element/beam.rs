@@ -29,7 +29,7 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
                 orientation,
             },
             &[a, b],
-        ) => Ok(Beam {
+        ) if material.anisotropy.is_none() => Ok(Beam {
             id,
             nodes: [a, b],
             properties: BeamProperties::new(
@@ -40,6 +40,12 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[ElementType {
             orientation: *orientation,
         }
         .into()),
+        (SectionValues::Beam { .. }, &[_, _]) => Err(FemError::InvalidElement {
+            element: id,
+            reason: "B31 beams take isotropic materials only (an anisotropic *ELASTIC \
+                     has no meaning for the beam's section constants)"
+                .into(),
+        }),
         _ => Err(super::registry::wrong_section("B31", id, section)),
     },
 }];

@@ -6,12 +6,15 @@
 
 use super::cards::{Files, Loc};
 use super::constraints;
+use super::elasticity::{self, ElasticKind};
 use super::keywords::{property_keyword, Reader};
 use super::properties::{discrete_properties, DiscreteProperties, RawSection, SectionData};
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind, SectionValues};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
-use flexbody_fem::{Dof, DofKind, Element, FemError, Material, Model, NodeId};
+use flexbody_fem::{
+    Anisotropy, Dof, DofKind, Element, FemError, Material, Model, NodeId, Orientation,
+};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -34,6 +37,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         element_set_order,
         materials,
         sections,
+        orientations,
+        initial_temperature,
         fixed,
         mut warnings,
         surfaces,
@@ -120,9 +125,23 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         }
     }
 
+    let needed = materials.iter().find(|m| {
+        m.elastic.as_ref().is_some_and(|e| e.1.is_table())
+            || m.density.as_ref().is_some_and(|d| d.0.is_table())
+    });
+    let node_list: Vec<NodeId> = nodes.iter().map(|n| n.id).collect();
+    let temperature = super::temperature::model_temperature(
+        files,
+        initial_temperature.as_ref(),
+        &node_list,
+        &node_sets,
+        needed.map(|m| m.name.as_str()),
+    )?;
     let mut props = Properties {
         files,
         materials: &materials,
+        orientations: &orientations,
+        temperature,
         built: HashMap::new(),
         discrete: HashMap::new(),
     };
@@ -291,13 +310,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &mut constraint_loc,
     )?;
     equations.extend(tied.equations);
-    check_damping(
-        files,
-        &materials,
-        &props.built,
-        modal_rayleigh,
-        &mut warnings,
-    )?;
+    let used: HashSet<String> = props.built.keys().map(|(name, _)| name.clone()).collect();
+    check_damping(files, &materials, &used, modal_rayleigh, &mut warnings)?;
     let mut parts = Model::of(nodes, elements)
         .node_sets(node_sets)
         .fixed(kept)
@@ -362,13 +376,13 @@ fn unique<T: Copy + Eq + std::hash::Hash>(ids: impl Iterator<Item = T>) -> Vec<T
 fn check_damping(
     files: &Files,
     materials: &[super::properties::RawMaterial],
-    used: &HashMap<String, Material>,
+    used: &HashSet<String>,
     modal: Option<(flexbody_fem::Rayleigh, Loc)>,
     warnings: &mut Vec<String>,
 ) -> Result<(), InputError> {
     let damped: Vec<(&str, flexbody_fem::Rayleigh, Loc)> = materials
         .iter()
-        .filter(|m| used.contains_key(&m.name))
+        .filter(|m| used.contains(&m.name))
         .filter_map(|m| m.damping.map(|(r, loc)| (m.name.as_str(), r, loc)))
         .collect();
     let Some(&(name, first, loc)) = damped.first() else {
@@ -442,18 +456,26 @@ fn check_dashpot_ends(
 struct Properties<'a> {
     files: &'a Files,
     materials: &'a [super::properties::RawMaterial],
-    built: HashMap<String, Material>,
+    orientations: &'a [(String, Orientation, Loc)],
+    /// The model temperature at which tables are read; `None`: their first
+    /// records.
+    temperature: Option<f64>,
+    /// Built materials by name and orientation.
+    built: HashMap<(String, Option<String>), Material>,
     discrete: HashMap<(usize, &'static str), DiscreteProperties>,
 }
 
 impl Properties<'_> {
-    /// The material a section names: defined, with `*ELASTIC` and `*DENSITY`.
+    /// The material a section names: defined, with `*ELASTIC` and
+    /// `*DENSITY` read at the model temperature; anisotropic ones turned by
+    /// the section's orientation.
     fn material(&mut self, s: &RawSection) -> Result<Material, InputError> {
         let files = self.files;
         let Some(name) = &s.material else {
             return Err(files.error(s.loc, format!("{} needs MATERIAL=...", s.keyword)));
         };
-        if let Some(m) = self.built.get(name) {
+        let key = (name.clone(), s.orientation.clone());
+        if let Some(m) = self.built.get(&key) {
             return Ok(m.clone());
         }
         let m = self
@@ -467,29 +489,52 @@ impl Properties<'_> {
                 )
             })?;
         let used = format!("used by {} on {}", s.keyword, files.describe(s.loc));
-        let (e, nu, elastic_loc) = m.elastic.ok_or_else(|| {
+        let (kind, elastic, _) = m.elastic.as_ref().ok_or_else(|| {
             files.error(m.loc, format!("material '{name}' has no *ELASTIC ({used})"))
         })?;
-        let (rho, density_loc) = m.density.ok_or_else(|| {
+        let (density, _) = m.density.as_ref().ok_or_else(|| {
             files.error(
                 m.loc,
                 format!("material '{name}' has no *DENSITY; the mass matrix needs it ({used})"),
             )
         })?;
-        let mut material = Material::new(e, nu, rho).map_err(|err| {
-            let loc = if rho.is_finite() && rho >= 0.0 {
-                elastic_loc
-            } else {
-                density_loc
-            };
-            files.error(loc, format!("material '{name}': {err}"))
-        })?;
+        let (rho, density_loc) = density.at(self.temperature);
+        let rho = rho[0];
+        flexbody_fem::require_non_negative("density", rho)
+            .map_err(|err| files.error(density_loc, format!("material '{name}': {err}")))?;
+        let (constants, elastic_loc) = elastic.at(self.temperature);
+        let orientation = match &s.orientation {
+            None => None,
+            Some(o) => Some(
+                self.orientations
+                    .iter()
+                    .find(|(n, _, _)| n == o)
+                    .map(|(_, o, _)| o.clone())
+                    .ok_or_else(|| {
+                        files.error(
+                            s.loc,
+                            format!("{}: orientation '{o}' is not defined", s.keyword),
+                        )
+                    })?,
+            ),
+        };
+        let bad = |err: String| files.error(elastic_loc, format!("material '{name}': {err}"));
+        let mut material = match kind {
+            ElasticKind::Isotropic => {
+                Material::new(constants[0], constants[1], rho).map_err(|e| bad(e.to_string()))?
+            }
+            _ => {
+                let c = elasticity::voigt(*kind, &constants).map_err(bad)?;
+                let a = Anisotropy::new(c, orientation).map_err(|e| bad(e.to_string()))?;
+                Material::anisotropic(a, rho).map_err(|e| bad(e.to_string()))?
+            }
+        };
         if let Some((rayleigh, loc)) = m.damping {
             material = material
                 .with_damping(rayleigh)
                 .map_err(|err| files.error(loc, format!("material '{name}': {err}")))?;
         }
-        self.built.insert(name.clone(), material.clone());
+        self.built.insert(key, material.clone());
         Ok(material)
     }
 
@@ -506,7 +551,7 @@ impl Properties<'_> {
                 material: self.material(s)?,
             },
             SectionData::Beam { constants, n1 } => SectionValues::Beam {
-                material: self.material(s)?,
+                material: self.beam_material(s)?,
                 constants: constants.clone(),
                 orientation: *n1,
             },
@@ -526,6 +571,23 @@ impl Properties<'_> {
                 }
             }
         })
+    }
+
+    /// The material of a beam section: isotropic only.
+    fn beam_material(&mut self, s: &RawSection) -> Result<Material, InputError> {
+        let material = self.material(s)?;
+        if material.anisotropy.is_some() {
+            let name = s.material.as_deref().unwrap_or_default();
+            return Err(self.files.error(
+                s.loc,
+                format!(
+                    "{}: material '{name}' is anisotropic; beams take isotropic materials \
+                     only (their section constants need one E and G)",
+                    s.keyword
+                ),
+            ));
+        }
+        Ok(material)
     }
 
     /// The DOFs and stiffness or coefficient of springs or dashpots of type

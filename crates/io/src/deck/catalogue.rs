@@ -1,14 +1,18 @@
 //! What a deck defines by name, for `flexbody info`: its materials and
 //! its property keywords (sections) with the element sets they apply to.
 
+use super::elasticity::ElasticKind;
 use super::keywords::Reader;
 use super::properties::SectionData;
 use serde::Serialize;
 
-/// A `*MATERIAL` as read: name, `E` (Pa), `nu`, density (kg/m^3).
+/// A `*MATERIAL` as read: name, elasticity kind (`isotropic`,
+/// `orthotropic`, `anisotropic`), `E` (Pa) and `nu` of an isotropic one,
+/// density (kg/m^3); the first record of temperature tables.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MaterialEntry {
     pub name: String,
+    pub kind: Option<&'static str>,
     pub youngs_modulus: Option<f64>,
     pub poisson: Option<f64>,
     pub density: Option<f64>,
@@ -35,6 +39,14 @@ pub struct Catalogue {
     pub sections: Vec<SectionEntry>,
 }
 
+/// The first record's `E, nu` of an isotropic material.
+fn isotropic(m: &super::properties::RawMaterial) -> Option<&[f64]> {
+    match &m.elastic {
+        Some((ElasticKind::Isotropic, table, _)) => Some(&table.records[0].values),
+        _ => None,
+    }
+}
+
 impl Catalogue {
     pub(super) fn of(reader: &Reader<'_>) -> Catalogue {
         let materials = reader
@@ -42,9 +54,10 @@ impl Catalogue {
             .iter()
             .map(|m| MaterialEntry {
                 name: m.name.clone(),
-                youngs_modulus: m.elastic.map(|e| e.0),
-                poisson: m.elastic.map(|e| e.1),
-                density: m.density.map(|d| d.0),
+                kind: m.elastic.as_ref().map(|e| e.0.class()),
+                youngs_modulus: isotropic(m).map(|v| v[0]),
+                poisson: isotropic(m).map(|v| v[1]),
+                density: m.density.as_ref().map(|d| d.0.records[0].values[0]),
             })
             .collect();
         let sections = reader

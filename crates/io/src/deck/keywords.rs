@@ -99,6 +99,10 @@ pub(super) struct Reader<'a> {
     pub element_set_order: Vec<String>,
     pub materials: Vec<super::properties::RawMaterial>,
     pub sections: Vec<super::properties::RawSection>,
+    /// `*INITIAL CONDITIONS, TYPE=TEMPERATURE`: the model temperature.
+    pub initial_temperature: Option<Card>,
+    /// `*ORIENTATION`s: name, system, line.
+    pub orientations: Vec<(String, flexbody_fem::Orientation, Loc)>,
     /// Fixed DOFs with their `*BOUNDARY` data line.
     pub fixed: Vec<(Dof, Loc)>,
     pub warnings: Vec<String>,
@@ -143,6 +147,8 @@ impl<'a> Reader<'a> {
             element_set_order: Vec::new(),
             materials: Vec::new(),
             sections: Vec::new(),
+            orientations: Vec::new(),
+            initial_temperature: None,
             fixed: Vec::new(),
             warnings: Vec::new(),
             skipped: Vec::new(),
@@ -188,6 +194,14 @@ impl<'a> Reader<'a> {
                 "MATERIAL" => self.material(card)?,
                 "ELASTIC" => self.elastic(card)?,
                 "DENSITY" => self.density(card)?,
+                "ORIENTATION" => self.orientation(card)?,
+                "INITIALCONDITIONS"
+                    if card
+                        .value("TYPE")
+                        .is_some_and(|t| t.eq_ignore_ascii_case("TEMPERATURE")) =>
+                {
+                    self.initial_temperature = Some(card.clone())
+                }
                 "SOLIDSECTION" => self.solid_section(card)?,
                 "BEAMSECTION" => self.beam_section(card)?,
                 "MASS" => self.mass(card)?,

@@ -18,9 +18,10 @@
 //! | `*NODE` (`NSET=`) | `id, x, y, z`; missing coordinates are 0 |
 //! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6 (solids), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2, DASHPOTA, DASHPOT1, DASHPOT2; any other type is an error |
 //! | `*NSET`, `*ELSET` | ids, names of sets defined before, or `GENERATE` (`first, last[, step]`) |
-//! | `*MATERIAL, NAME=` + `*ELASTIC` (isotropic `E, nu`) + `*DENSITY` | one data line each; other `TYPE=`s and temperature tables are errors; a material used without `*DENSITY` is an error (the mass matrix needs it) |
+//! | `*MATERIAL, NAME=` + `*ELASTIC` + `*DENSITY` | `*ELASTIC, TYPE=` ISO (`E, nu`), ORTHO, ENGINEERING CONSTANTS, ANISO (solids only; see `elasticity.rs`); several records make a temperature table, read at the uniform `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (linear, constant beyond the ends; without one the first record, as CalculiX); a material used without `*DENSITY` is an error (the mass matrix needs it); a `C` that is not positive definite is an error at its line |
 //! | `*DAMPING, ALPHA=, BETA=` (in a `*MATERIAL`) | Rayleigh damping of the material, as Abaqus reads it: each of its elements adds `alpha M_e + beta K_e` to D; materials damped differently get a warning (CalculiX 2.20 applies the `*DAMPING` read last to the whole model); `STRUCTURAL=` (hysteretic, a complex stiffness), `COMPOSITE=`, negative values and a data line are errors |
-//! | `*SOLID SECTION, ELSET=, MATERIAL=` | the data line is ignored; every solid needs one |
+//! | `*ORIENTATION, NAME=, SYSTEM=R or C` | points a, b; optional `axis, angle` line (rectangular only); turns anisotropic materials of a `*SOLID SECTION, ORIENTATION=` (cylindrical: at each integration point) |
+//! | `*SOLID SECTION, ELSET=, MATERIAL=[, ORIENTATION=]` | the data line is ignored; every solid needs one; beams refuse anisotropic materials |
 //! | `*BEAM SECTION, ELSET=, MATERIAL=, SECTION=` | RECT `a, b`; CIRC `r`; PIPE `r, t` (outer radius, wall); BOX `a, b, t1..t4` (equal walls only); second line n1 = local y, default `(0, 0, -1)`; a along local 1 (y), b along local 2 (z) |
 //! | `*MASS, ELSET=` | mass (kg) of MASS elements |
 //! | `*SPRING, ELSET=` | SPRINGA: stiffness; SPRING1: DOF, then stiffness; SPRING2: two DOFs, then stiffness |
@@ -34,7 +35,7 @@
 //! | `*RIGID BODY, REF NODE=, NSET= or ELSET=[, ROT NODE=]` | a rigid coupling of the reference node (6 DOFs) to the members; a `*BOUNDARY` on the ROT NODE's translations fixes the reference node's rotations |
 //! | `*DISTRIBUTING COUPLING, ELSET=` + a DCOUP3D element | a distributing coupling (RBE3) of the element's node to the listed nodes or node sets with their weights |
 //! | steps | the model is the one of the first `*FREQUENCY` step: `*BOUNDARY` and loads of later steps are skipped with one warning; a `*STEP, PERTURBATION` frequency step after a step with loads (`*CLOAD`, `*DLOAD`, `*DSLOAD`, `*TEMPERATURE`) is refused: CalculiX adds the preload's stress stiffening there |
-//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*ORIENTATION`, element `*SURFACE`s, `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K, M or D of the linear model (`*FREQUENCY` ignores damping, as in CalculiX) |
+//! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*TEMPERATURE` (a frequency step uses the initial temperature), `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K, M or D of the linear model (`*FREQUENCY` ignores damping, as in CalculiX) |
 //! | `*KINEMATIC COUPLING`, `*MATRIX ASSEMBLE`, `*MATRIX INPUT`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
@@ -49,10 +50,12 @@ mod build;
 mod cards;
 mod catalogue;
 mod constraints;
+mod elasticity;
 mod keywords;
 mod known;
 mod properties;
 mod steps;
+mod temperature;
 #[cfg(test)]
 mod tests;
 mod unknown;

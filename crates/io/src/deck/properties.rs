@@ -10,6 +10,7 @@
 //! BOX) is the width along y and the second (`b`) the height along z.
 
 use super::cards::{Card, DataLine, Files, Loc};
+use super::elasticity::{ElasticKind, Table};
 use super::keywords::Reader;
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind};
@@ -19,14 +20,14 @@ use flexbody_fem::{DofKind, Rayleigh, SectionShape};
 /// Default n1 direction of a beam section (CalculiX and Abaqus).
 const DEFAULT_N1: [f64; 3] = [0.0, 0.0, -1.0];
 
-/// A `*MATERIAL` block: isotropic elasticity `(E, nu)` and density, with the
-/// lines that gave them.
+/// A `*MATERIAL` block: elasticity (its kind and table) and density (a
+/// table), with the cards that gave them.
 #[derive(Clone, Debug)]
 pub(super) struct RawMaterial {
     pub name: String,
     pub loc: Loc,
-    pub elastic: Option<(f64, f64, Loc)>,
-    pub density: Option<(f64, Loc)>,
+    pub elastic: Option<(ElasticKind, Table, Loc)>,
+    pub density: Option<(Table, Loc)>,
     /// Rayleigh damping of `*DAMPING, ALPHA=, BETA=`.
     pub damping: Option<(Rayleigh, Loc)>,
 }
@@ -68,6 +69,8 @@ pub(super) struct RawSection {
     pub keyword: String,
     pub elset: String,
     pub material: Option<String>,
+    /// `ORIENTATION=` of a `*SOLID SECTION`.
+    pub orientation: Option<String>,
     pub data: SectionData,
     pub loc: Loc,
 }
@@ -105,79 +108,71 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// The single data line of a material option, and the material index.
-    fn material_option<'c>(&self, card: &'c Card) -> Result<(usize, &'c DataLine), InputError> {
-        let files = self.files;
-        let m = self.current_material.ok_or_else(|| {
-            files.error(
+    /// The material a material option belongs to.
+    fn material_of(&self, card: &Card) -> Result<usize, InputError> {
+        self.current_material.ok_or_else(|| {
+            self.files.error(
                 card.loc,
                 format!("{} must follow a *MATERIAL line", card.display),
             )
-        })?;
-        let name = &self.materials[m].name;
-        match card.data.as_slice() {
-            [line] => Ok((m, line)),
-            [] => Err(files.error(
-                card.loc,
-                format!("{} of material '{name}' has no data line", card.display),
-            )),
-            [_, second, ..] => Err(files.error(
-                second.loc,
-                format!(
-                    "{} of material '{name}': temperature-dependent data is not supported \
-                     (give one data line)",
-                    card.display
-                ),
-            )),
-        }
+        })
     }
 
     pub(super) fn elastic(&mut self, card: &Card) -> Result<(), InputError> {
         self.check_params(card, &["TYPE"]);
-        if let Some(t) = card.value("TYPE") {
-            if !matches!(t.to_uppercase().as_str(), "ISO" | "ISOTROPIC") {
-                return Err(self.files.error(
-                    card.loc,
-                    format!(
-                        "*ELASTIC, TYPE={t}: only isotropic elasticity (TYPE=ISO) is supported"
-                    ),
-                ));
-            }
-        }
-        let (m, line) = self.material_option(card)?;
+        let t = card.value("TYPE").unwrap_or("ISO");
+        let kind = ElasticKind::parse(t).ok_or_else(|| {
+            self.files.error(
+                card.loc,
+                format!(
+                    "*ELASTIC, TYPE={t}: not supported (supported: ISO, ORTHO, \
+                     ENGINEERING CONSTANTS, ANISO)"
+                ),
+            )
+        })?;
+        let m = self.material_of(card)?;
         let name = self.materials[m].name.clone();
-        let e = line.float(
-            self.files,
-            0,
-            &format!("material '{name}': Young's modulus"),
-        )?;
-        let nu = line.float(
-            self.files,
-            1,
-            &format!("material '{name}': Poisson's ratio"),
-        )?;
+        let what = format!("*ELASTIC, TYPE={} of material '{name}'", kind.name());
+        let table = Table::read(self.files, card, kind.constants(), kind.lines(), &what)?;
         if self.materials[m].elastic.is_some() {
             return Err(self.files.error(
                 card.loc,
                 format!("material '{name}' has two *ELASTIC cards"),
             ));
         }
-        self.materials[m].elastic = Some((e, nu, line.loc));
+        self.materials[m].elastic = Some((kind, table, card.loc));
         Ok(())
     }
 
     pub(super) fn density(&mut self, card: &Card) -> Result<(), InputError> {
         self.check_params(card, &[]);
-        let (m, line) = self.material_option(card)?;
+        let m = self.material_of(card)?;
         let name = self.materials[m].name.clone();
-        let rho = line.float(self.files, 0, &format!("material '{name}': density"))?;
+        let what = format!("*DENSITY of material '{name}'");
+        let table = Table::read(self.files, card, 1, 1, &what)?;
         if self.materials[m].density.is_some() {
             return Err(self.files.error(
                 card.loc,
                 format!("material '{name}' has two *DENSITY cards"),
             ));
         }
-        self.materials[m].density = Some((rho, line.loc));
+        self.materials[m].density = Some((table, card.loc));
+        Ok(())
+    }
+
+    pub(super) fn orientation(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(card, &["NAME", "SYSTEM"]);
+        let (name, o) = super::elasticity::orientation(self.files, card)?;
+        if let Some((_, _, first)) = self.orientations.iter().find(|(n, _, _)| *n == name) {
+            return Err(self.files.error(
+                card.loc,
+                format!(
+                    "orientation '{name}' is defined twice (first on {})",
+                    self.files.describe(*first)
+                ),
+            ));
+        }
+        self.orientations.push((name, o, card.loc));
         Ok(())
     }
 
@@ -321,10 +316,15 @@ impl Reader<'_> {
         data: SectionData,
     ) -> Result<(), InputError> {
         let elset = card.require_name(self.files, "ELSET")?;
+        let orientation = match data {
+            SectionData::Solid => card.value("ORIENTATION").map(super::cards::name),
+            _ => None,
+        };
         self.sections.push(RawSection {
             keyword: card.display.clone(),
             elset,
             material,
+            orientation,
             data,
             loc: card.loc,
         });
@@ -332,8 +332,9 @@ impl Reader<'_> {
     }
 
     pub(super) fn solid_section(&mut self, card: &Card) -> Result<(), InputError> {
-        // ORIENTATION only matters for anisotropic materials, which are
-        // refused; the data line (thickness of 2D elements) does not apply.
+        // ORIENTATION turns anisotropic materials (isotropic ones are the
+        // same in every axes); the data line (thickness of 2D elements)
+        // does not apply.
         self.check_params(card, &["ELSET", "MATERIAL", "ORIENTATION", "CONTROLS"]);
         let material = card.require_name(self.files, "MATERIAL")?;
         self.push_section(card, Some(material), SectionData::Solid)

@@ -96,6 +96,7 @@ fn file_catalogue(raw: &RawModel) -> Catalogue {
         .material
         .iter()
         .map(|m| MaterialEntry {
+            kind: Some("isotropic"),
             name: m.name.get_ref().clone(),
             youngs_modulus: Some(*m.youngs_modulus.get_ref()),
             poisson: Some(*m.poisson_ratio.get_ref()),

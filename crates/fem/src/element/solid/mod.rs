@@ -28,6 +28,14 @@
 //! nu))`, as CalculiX; [`Material::shear_modulus`] is not used). Mass:
 //! `M_ab = rho sum_p w_p det J_p N_a N_b I`.
 //!
+//! Anisotropic materials ([`Material::anisotropy`]) take the general form
+//! `K_ab = sum_p w_p det J_p B_a^T C_p B_b` with the strain-displacement
+//! block `B_a` of engineering strains and `C_p` the elasticity in global
+//! axes at point `p`: rotated from the material axes by the orientation
+//! evaluated at the point's global position (for a cylindrical system it
+//! changes from point to point, as in CalculiX, which evaluates it at each
+//! integration point). Stresses use the same `C_p`.
+//!
 //! Nodal stresses are evaluated at the integration points of the stiffness
 //! rule and carried to the nodes by the polynomial through those points
 //! (the standard extrapolation; at the mid-edge nodes of a C3D20R the
@@ -46,6 +54,7 @@ pub mod topology;
 
 use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell, TRANSLATIONS};
 use super::{Element, ElementType, SectionKind, SectionValues};
+use crate::anisotropy::Voigt;
 use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::section::Material;
@@ -216,7 +225,8 @@ pub struct Solid {
     pub kind: SolidKind,
     /// Node ids in Abaqus/CalculiX order (`kind.node_count()` of them).
     pub nodes: Vec<NodeId>,
-    /// Linear isotropic material.
+    /// Linear elastic material (isotropic, or anisotropic with its
+    /// orientation).
     pub material: Material,
 }
 
@@ -332,6 +342,7 @@ impl Solid {
         let nn = self.kind.node_count();
         let nd = 3 * nn;
         let (lambda, mu) = self.lame();
+        let anisotropy = self.material.anisotropy.as_deref();
         let rho = self.material.density;
         // Upper triangles, row-major: K over all DOFs, M per node pair (the
         // same for each direction).
@@ -342,7 +353,15 @@ impl Solid {
         for (xi, w) in stiffness_rule.points().iter().zip(stiffness_rule.weights()) {
             let point = geometry.point(*xi);
             let wd = w * point.det_j;
-            add_stiffness(&mut k, nn, &point.grad, lambda * wd, mu * wd);
+            match anisotropy {
+                None => add_stiffness(&mut k, nn, &point.grad, lambda * wd, mu * wd),
+                Some(a) => {
+                    let c = a
+                        .global_at(geometry.global(&point))
+                        .map_err(|e| self.invalid(e.to_string()))?;
+                    add_stiffness_general(&mut k, nn, &point.grad, &c, wd);
+                }
+            }
             if mass_rule == stiffness_rule {
                 add_mass(&mut m, nn, &point.n, rho * wd);
             }
@@ -420,6 +439,14 @@ impl Solid {
         let (lambda, mu) = self.lame();
         let rule = self.kind.stiffness_rule();
         let points: Vec<_> = rule.points().iter().map(|xi| geometry.point(*xi)).collect();
+        let elasticity: Vec<Option<Voigt>> = match self.material.anisotropy.as_deref() {
+            None => vec![None; points.len()],
+            Some(a) => points
+                .iter()
+                .map(|p| a.global_at(geometry.global(p)).map(Some))
+                .collect::<Result<_, _>>()
+                .map_err(|e| self.invalid(e.to_string()))?,
+        };
         // The extrapolation weights of each node from the points.
         let mut c = [0.0; MAX_POINTS];
         let weights: Vec<[f64; MAX_POINTS]> = shape::node_coordinates(self.kind)
@@ -432,8 +459,12 @@ impl Solid {
         let mut out = Vec::with_capacity(nn * columns);
         let mut at_points = [[0.0; 6]; MAX_POINTS];
         for u in u_e.chunks_exact(3 * nn) {
-            for (s, point) in at_points.iter_mut().zip(&points) {
-                *s = stress(&strain(&point.grad[..nn], u), lambda, mu);
+            for ((s, point), c) in at_points.iter_mut().zip(&points).zip(&elasticity) {
+                let e = strain(&point.grad[..nn], u);
+                *s = match c {
+                    None => stress(&e, lambda, mu),
+                    Some(c) => std::array::from_fn(|i| (0..6).map(|j| c[i][j] * e[j]).sum()),
+                };
             }
             out.extend(weights.iter().map(|c| {
                 let mut s = [0.0; 6];
@@ -482,6 +513,7 @@ impl Solid {
         let size = (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt();
         Ok(Geometry {
             kind: self.kind,
+            origin: coords[0],
             rel,
             size,
         })
@@ -489,7 +521,14 @@ impl Solid {
 
     fn check_material(&self) -> Result<(), FemError> {
         let m = &self.material;
-        let problem = if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
+        let problem = if m.anisotropy.is_some() {
+            (!(m.density.is_finite() && m.density >= 0.0)).then(|| {
+                format!(
+                    "density must be zero or positive and finite, got {}",
+                    m.density
+                )
+            })
+        } else if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
             Some(format!(
                 "Young's modulus must be positive and finite, got {}",
                 m.youngs_modulus
@@ -527,6 +566,8 @@ impl Solid {
 /// Node coordinates relative to the first node, and the element size.
 struct Geometry {
     kind: SolidKind,
+    /// Global coordinates of the first node.
+    origin: [f64; 3],
     rel: [[f64; 3]; MAX_NODES],
     size: f64,
 }
@@ -554,6 +595,17 @@ impl Geometry {
             }
         }
         (n, dn, j)
+    }
+
+    /// The global position of a point: `origin + sum_a N_a rel_a`.
+    fn global(&self, point: &PointValues) -> [f64; 3] {
+        let mut x = self.origin;
+        for (n, r) in point.n.iter().zip(&self.rel).take(self.kind.node_count()) {
+            for (xi, ri) in x.iter_mut().zip(r) {
+                *xi += n * ri;
+            }
+        }
+        x
     }
 
     fn det_j(&self, xi: [f64; 3]) -> f64 {
@@ -613,6 +665,46 @@ fn add_stiffness(k: &mut [f64], nn: usize, grad: &[[f64; 3]; MAX_NODES], lw: f64
                 let row = &mut k[(3 * a + i) * nd + 3 * b..][..3];
                 for (j, kij) in row.iter_mut().enumerate() {
                     *kij += gl[i] * gb[j] + gm[j] * gb[i] + if i == j { dot } else { 0.0 };
+                }
+            }
+        }
+    }
+}
+
+/// Adds one point's stiffness `wd B_a^T C B_b` (`wd = w det J`) to the
+/// upper triangle of `k` (row-major, `3 nn` square), for a general
+/// elasticity `C` in Voigt order `[xx, yy, zz, xy, yz, zx]` (engineering
+/// shears): `B_a` maps `u_a` to those strains.
+fn add_stiffness_general(
+    k: &mut [f64],
+    nn: usize,
+    grad: &[[f64; 3]; MAX_NODES],
+    c: &Voigt,
+    wd: f64,
+) {
+    let nd = 3 * nn;
+    let b = |g: &[f64; 3]| -> [[f64; 3]; 6] {
+        [
+            [g[0], 0.0, 0.0],
+            [0.0, g[1], 0.0],
+            [0.0, 0.0, g[2]],
+            [g[1], g[0], 0.0],
+            [0.0, g[2], g[1]],
+            [g[2], 0.0, g[0]],
+        ]
+    };
+    for a in 0..nn {
+        let ba = b(&grad[a]);
+        // (B_a^T C) w det J: 3 x 6.
+        let btc: [[f64; 6]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|m| wd * (0..6).map(|l| ba[l][i] * c[l][m]).sum::<f64>())
+        });
+        for (bi, gb) in grad.iter().enumerate().take(nn).skip(a) {
+            let bb = b(gb);
+            for (i, btc_i) in btc.iter().enumerate() {
+                let row = &mut k[(3 * a + i) * nd + 3 * bi..][..3];
+                for (j, kij) in row.iter_mut().enumerate() {
+                    *kij += (0..6).map(|m| btc_i[m] * bb[m][j]).sum::<f64>();
                 }
             }
         }

@@ -11,6 +11,7 @@ use super::{Solid, SolidKind};
 use crate::section::Material;
 use faer::Mat;
 
+mod anisotropic;
 mod calculix;
 mod cantilever;
 mod checks;

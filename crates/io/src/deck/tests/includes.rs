@@ -22,7 +22,7 @@ fn an_error_in_an_included_file_names_that_file_and_line() {
         }
         other => panic!("{other}"),
     }
-    assert!(e.to_string().contains("temperature-dependent"), "{e}");
+    assert!(e.to_string().contains("increase strictly"), "{e}");
 }
 
 #[test]
