@@ -138,6 +138,17 @@ fn compare_frequencies(what: &str, fixture: &Fixture, ours: &[f64], ccx: &[f64])
     }
 }
 
+/// flexbody's equation of each of CalculiX's equations, the DOF sets being
+/// the same (both programs eliminated the same DOFs).
+pub(crate) fn ccx_to_ours(model: &flexbody::fem::Model, ccx: &MatrixModel) -> Vec<usize> {
+    assert_eq!(model.dof_map().len(), ccx.dof_map.len());
+    ccx.dof_map
+        .dofs()
+        .iter()
+        .map(|d| model.dof_map().index_of(*d).expect("a DOF of both"))
+        .collect()
+}
+
 /// Compares `ours` (on flexbody's equations) with `ccx` (on CalculiX's;
 /// `to_ours[i]` is flexbody's equation of CalculiX's equation `i`) entry by
 /// entry against [`MATRIX_RTOL`] and [`MATRIX_ATOL`]. Returns the largest
