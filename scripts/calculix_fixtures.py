@@ -287,6 +287,29 @@ def constraint_tie(mesh, elements):
     }
 
 
+def local_systems(mesh, elements):
+    """*TRANSFORM: the tip face held tangentially in a cylindrical system
+    about the bar's axis (radial and axial free), a node held along an
+    inclined axis of a rectangular system, and an *EQUATION with a term
+    along a local axis."""
+    lx, ly, lz = mesh.size
+    nx = 2 * mesh.n[0]
+    tip = tip_face(mesh)
+    inclined = node_at(mesh, 6, 0, 0)
+    local_term = node_at(mesh, 8, 2, 2)
+    other = node_at(mesh, 8, 0, 2)
+    return {"model": [
+        "*NSET, NSET=TIPT", ", ".join(map(str, tip)),
+        "*TRANSFORM, NSET=TIPT, TYPE=C", f"0.0, {ly / 2!r}, {lz / 2!r}, 1.0, {ly / 2!r}, {lz / 2!r}",
+        "*NSET, NSET=INCLINED", f"{inclined}",
+        "*TRANSFORM, NSET=INCLINED", "1.0, 1.0, 0.0, -1.0, 1.0, 1.0",
+        "*NSET, NSET=LOCALTERM", f"{local_term}",
+        "*TRANSFORM, NSET=LOCALTERM", "0.0, 1.0, 1.0, 1.0, 0.0, 0.0",
+        "*BOUNDARY", "TIPT, 2", f"{inclined}, 1",
+        "*EQUATION", "2", f"{local_term}, 1, 1.0, {other}, 3, -1.0",
+    ]}
+
+
 CLAMPED_BAR = ("C3D8", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: hex_elements(m, False), True, 10)
 CUSTOM.update({
     "equation_bar": (CLAMPED_BAR, constraint_equations),
@@ -295,6 +318,7 @@ CUSTOM.update({
     "distributing_bar": (CLAMPED_BAR, constraint_distributing),
     "tie_blocks": (("C3D8", (3, 2, 2), (0.3, 0.1, 0.1), lambda m: hex_elements(m, False), True, 10),
                    constraint_tie),
+    "transform_bar": (CLAMPED_BAR, local_systems),
 })
 
 

@@ -28,13 +28,21 @@ pub fn lines(c: &Component) -> Result<Vec<String>, FemError> {
         .map(|m| {
             let value =
                 |v: Option<f64>, unit: &str| v.map_or("-".into(), |v| format!("{v:e}{unit}"));
-            format!(
-                "{} (E {}, nu {}, density {})",
-                m.name,
-                value(m.youngs_modulus, " Pa"),
-                value(m.poisson, ""),
-                value(m.density, " kg/m^3")
-            )
+            match m.kind {
+                // Orthotropic and anisotropic: no single E and nu.
+                Some(kind) if kind != "isotropic" => format!(
+                    "{} ({kind}, density {})",
+                    m.name,
+                    value(m.density, " kg/m^3")
+                ),
+                _ => format!(
+                    "{} (E {}, nu {}, density {})",
+                    m.name,
+                    value(m.youngs_modulus, " Pa"),
+                    value(m.poisson, ""),
+                    value(m.density, " kg/m^3")
+                ),
+            }
         })
         .collect();
     out.push(format!("materials: {}", listed(materials)));

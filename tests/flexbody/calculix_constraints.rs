@@ -1,6 +1,6 @@
 //! Constraints against CalculiX 2.20: `*EQUATION`, `*MPC` (PLANE, STRAIGHT,
-//! BEAM), `*RIGID BODY` and `*DISTRIBUTING COUPLING` (DCOUP3D) on a clamped
-//! C3D8 bar, from the fixtures of `scripts/calculix_fixtures.py` (decks,
+//! BEAM), `*RIGID BODY`, `*DISTRIBUTING COUPLING` (DCOUP3D), `*TIE` and
+//! `*TRANSFORM` on a clamped C3D8 bar, from the fixtures of `scripts/calculix_fixtures.py` (decks,
 //! ccx's K and M over its independent DOFs, and its frequencies).
 //!
 //! flexbody eliminates each constraint's dependent DOFs exactly and must
@@ -154,5 +154,61 @@ fn a_tied_non_matching_block_matches_calculix() {
         }
         eprintln!("tie_blocks {what}: largest |a - b| / sqrt(b_ii b_jj) {worst:.1e}");
         assert!(worst < 1e-7, "tie_blocks {what}: {worst:e}");
+    }
+}
+
+/// `*TRANSFORM`: the tip face held tangentially in a cylindrical system
+/// about the bar's axis, a node held along an inclined axis, and an
+/// `*EQUATION` with a term along a local axis (without that node's
+/// `*TRANSFORM` the frequencies move by up to 16 %, so the term's
+/// direction is tested). In every mode, the local components held are zero.
+#[test]
+fn local_systems_match_calculix() {
+    let model = frequencies_match("transform_bar");
+    let s = assemble(&model).unwrap();
+    let modes = eigenmodes(&s.stiffness, &s.mass, Wanted::Lowest(4)).unwrap();
+    let node = |n| {
+        model
+            .nodes()
+            .iter()
+            .find(|x| x.id == n)
+            .map(|x| x.coords)
+            .unwrap()
+    };
+    let set = |name: &str| model.node_sets()[name].clone();
+    for m in 0..modes.values.len() {
+        let u: Vec<f64> = modes.vectors.col(m).iter().copied().collect();
+        let disp = |n: u64| -> [f64; 3] {
+            [DofKind::Ux, DofKind::Uy, DofKind::Uz].map(|k| model.value(Dof::new(n, k), &u))
+        };
+        let size = (0..u.len()).map(|i| u[i].abs()).fold(0.0, f64::max);
+        // Tip: tangential = axis x radial, the axis along x through the
+        // middle of the cross-section.
+        for n in set("TIPT") {
+            let x = node(n);
+            let radial = [0.0, x[1] - 0.05, x[2] - 0.05];
+            let tangential = [0.0, -radial[2], radial[1]];
+            let d = disp(n);
+            let t: f64 = (0..3).map(|i| d[i] * tangential[i]).sum();
+            assert!(
+                t.abs() < 1e-12 * size,
+                "mode {m}: node {n} moves tangentially by {t:e}"
+            );
+        }
+        // Inclined: local x along (1, 1, 0).
+        let n = set("INCLINED")[0];
+        let d = disp(n);
+        assert!(
+            (d[0] + d[1]).abs() < 1e-12 * size,
+            "mode {m}: node {n}: {d:?}"
+        );
+        // The equation: local x of LOCALTERM, along (0, 1, 1), equals uz of
+        // the other node.
+        let n = set("LOCALTERM")[0];
+        let d = disp(n);
+        let equation = &model.equations()[0];
+        let other = equation.terms.last().unwrap().0.node;
+        let lhs = (d[1] + d[2]) / 2f64.sqrt();
+        assert!((lhs - disp(other)[2]).abs() < 1e-12 * size, "mode {m}");
     }
 }

@@ -143,3 +143,23 @@ fn a_non_uniform_initial_temperature_is_refused() {
         &["differs from 310", "uniform"],
     );
 }
+
+/// `info` names the kind of an anisotropic material instead of an `E` and
+/// `nu` it does not have.
+#[test]
+fn info_names_the_kind_of_anisotropic_materials() {
+    for (name, kind) in [
+        ("aniso_block", "anisotropic"),
+        ("ortho_rotated_block", "orthotropic"),
+        ("cylindrical_ring", "orthotropic"),
+    ] {
+        let deck = fixture_dir(name).join(format!("{name}.inp"));
+        let o = super::support::run_ok(&["info".as_ref(), deck.as_os_str()]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        let line = text.lines().find(|l| l.starts_with("materials: ")).unwrap();
+        assert!(
+            line.contains(&format!("({kind}, density ")) && !line.contains(" E "),
+            "{name}: {line}"
+        );
+    }
+}

@@ -9,6 +9,7 @@ mod cli_errors;
 mod cli_lowest_below;
 mod cli_modes;
 mod damping;
+mod deck_constraints;
 mod deck_steps;
 mod decks;
 mod errors;

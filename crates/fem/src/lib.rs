@@ -16,6 +16,7 @@ pub mod model;
 pub mod section;
 pub mod substructure;
 pub mod tie;
+pub mod transform;
 
 pub use anisotropy::{Anisotropy, Orientation};
 pub use assembly::{assemble, SystemMatrices};

@@ -9,6 +9,7 @@ use super::constraints;
 use super::elasticity::{self, ElasticKind};
 use super::keywords::{property_keyword, Reader};
 use super::properties::{discrete_properties, DiscreteProperties, RawSection, SectionData};
+use super::transform;
 use crate::InputError;
 use flexbody_fem::element::{ElementType, SectionKind, SectionValues};
 use flexbody_fem::id_hash::{id_map, IdMap, IdSet};
@@ -50,6 +51,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         dcoup,
         element_surfaces,
         ties,
+        transforms,
+        contact,
         modal_rayleigh,
         ..
     } = reader;
@@ -172,6 +175,17 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         .iter()
         .filter_map(|r| r.rotation.map(|n| (n, r.reference)))
         .collect();
+    let coords: HashMap<NodeId, [f64; 3]> = nodes.iter().map(|n| (n.id, n.coords)).collect();
+    let systems = transform::nodal_systems(files, &transforms, &node_sets, &coords)?;
+    if let Some((node, (_, loc))) = systems.iter().find(|(n, _)| rotation_nodes.contains_key(n)) {
+        return Err(files.error(
+            *loc,
+            format!(
+                "*TRANSFORM: node {node} is the rotational node of a *RIGID BODY; its DOFs stand \
+                 for the reference node's rotations and take no local system"
+            ),
+        ));
+    }
     let fixed: Vec<(Dof, Loc)> = fixed
         .into_iter()
         .map(|(d, loc)| match rotation_nodes.get(&d.node) {
@@ -215,8 +229,23 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
                 ),
             ));
         }
-        if active.contains(dof) {
-            kept.push(*dof);
+        let exists = if systems.contains_key(&dof.node) {
+            transform::local_dof_exists(*dof, |d| active.contains(d)).ok_or_else(|| {
+                files.error(
+                    *loc,
+                    format!(
+                        "*BOUNDARY: node {} has a *TRANSFORM, and its local DOF {} mixes DOFs \
+                         the node has with DOFs it has not",
+                        dof.node,
+                        dof.kind.index() + 1
+                    ),
+                )
+            })?
+        } else {
+            active.contains(dof)
+        };
+        if exists {
+            kept.push((*dof, *loc));
         } else {
             let d = dropped.get_or_insert((*dof, *loc, 0));
             d.2 += 1;
@@ -278,7 +307,9 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &mut coupled,
         &mut coupling_loc,
     )?;
-    let coords: HashMap<NodeId, [f64; 3]> = nodes.iter().map(|n| (n.id, n.coords)).collect();
+    let (kept, local_fixed) = transform::global_fixed(kept, &systems, &mut constraint_loc);
+    let mut ties = ties;
+    ties.extend(super::contact::tied_pairs(files, &contact)?);
     let tied = constraints::ties(
         files,
         &ties,
@@ -307,8 +338,10 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         &mpcs,
         &coords,
         &rotation_nodes,
+        &systems,
         &mut constraint_loc,
     )?;
+    equations.extend(local_fixed);
     equations.extend(tied.equations);
     let used: HashSet<String> = props.built.keys().map(|(name, _)| name.clone()).collect();
     check_damping(files, &materials, &used, modal_rayleigh, &mut warnings)?;

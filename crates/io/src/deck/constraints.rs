@@ -29,6 +29,8 @@ pub(super) struct RawMpc {
 /// A `*TIE`: slave and master surface names.
 pub(super) struct RawTie {
     pub name: String,
+    /// The card in messages: `*TIE T1`, `*CONTACT PAIR 2 (tied)`.
+    pub label: String,
     pub slave: String,
     pub master: String,
     pub tolerance: Option<f64>,
@@ -287,6 +289,7 @@ impl Reader<'_> {
             ));
         };
         self.ties.push(RawTie {
+            label: format!("*TIE {tie_name}"),
             name: tie_name,
             slave: name(slave),
             master: name(master),
@@ -496,13 +499,15 @@ pub(super) fn distributing(
 
 /// The `*EQUATION`s and `*MPC`s as equations, named `*EQUATION k` and
 /// `*MPC k (TYPE)` (their line in `locs`). A term on a rigid body's
-/// rotational node is the reference node's rotation.
+/// rotational node is the reference node's rotation; a term on a
+/// transformed node is along its local axis.
 pub(super) fn equations(
     files: &Files,
     equations: &[RawEquation],
     mpcs: &[RawMpc],
     coords: &HashMap<NodeId, [f64; 3]>,
     rotation_nodes: &HashMap<NodeId, NodeId>,
+    systems: &super::transform::NodalSystems,
     locs: &mut HashMap<String, Loc>,
 ) -> Result<Vec<Equation>, InputError> {
     let mut out = Vec::with_capacity(equations.len() + mpcs.len());
@@ -511,11 +516,14 @@ pub(super) fn equations(
         let terms = e
             .terms
             .iter()
-            .map(|&(node, kind, c)| match rotation_nodes.get(&node) {
+            .flat_map(|&(node, kind, c)| match rotation_nodes.get(&node) {
                 Some(&reference) if kind.index() < 3 => {
-                    (Dof::new(reference, DofKind::ALL[kind.index() + 3]), c)
+                    vec![(Dof::new(reference, DofKind::ALL[kind.index() + 3]), c)]
                 }
-                _ => (Dof::new(node, kind), c),
+                _ => match systems.get(&node) {
+                    Some((r, _)) => flexbody_fem::transform::local_term(node, r, kind, c),
+                    None => vec![(Dof::new(node, kind), c)],
+                },
             })
             .collect();
         locs.insert(name.clone(), e.loc);
@@ -630,10 +638,7 @@ pub(super) fn ties(
                 (None, None) => {
                     return Err(files.error(
                         t.loc,
-                        format!(
-                            "*TIE {}: slave surface '{}' is not defined",
-                            t.name, t.slave
-                        ),
+                        format!("{}: slave surface '{}' is not defined", t.label, t.slave),
                     ))
                 }
             };
@@ -641,8 +646,8 @@ pub(super) fn ties(
             files.error(
                 t.loc,
                 format!(
-                    "*TIE {}: master surface '{}' is not defined as an element surface (*SURFACE, TYPE=ELEMENT)",
-                    t.name, t.master
+                    "{}: master surface '{}' is not defined as an element surface (*SURFACE, TYPE=ELEMENT)",
+                    t.label, t.master
                 ),
             )
         })?;

@@ -115,6 +115,10 @@ pub(super) struct Reader<'a> {
     /// number 1-6, line).
     pub element_surfaces: BTreeMap<String, Vec<(String, usize, Loc)>>,
     pub ties: Vec<super::constraints::RawTie>,
+    /// `*CONTACT PAIR`s and their surface interactions.
+    pub contact: super::contact::Contact,
+    /// `*TRANSFORM`s in the order read.
+    pub transforms: Vec<super::transform::RawTransform>,
     pub couplings: Vec<DeckCoupling>,
     pub equations: Vec<super::constraints::RawEquation>,
     pub mpcs: Vec<super::constraints::RawMpc>,
@@ -155,6 +159,8 @@ impl<'a> Reader<'a> {
             surfaces: BTreeMap::new(),
             element_surfaces: BTreeMap::new(),
             ties: Vec::new(),
+            transforms: Vec::new(),
+            contact: Default::default(),
             couplings: Vec::new(),
             equations: Vec::new(),
             mpcs: Vec::new(),
@@ -184,6 +190,9 @@ impl<'a> Reader<'a> {
             }
             if !MATERIAL_OPTIONS.contains(&k) {
                 self.current_material = None;
+            }
+            if !matches!(k, "SURFACEBEHAVIOR" | "FRICTION" | "GAPCONDUCTANCE") {
+                self.contact.end_interaction();
             }
             match k {
                 "NODE" => self.node(card)?,
@@ -218,6 +227,10 @@ impl<'a> Reader<'a> {
                 "RIGIDBODY" => self.rigid_body(card)?,
                 "DISTRIBUTINGCOUPLING" => self.distributing_coupling(card)?,
                 "TIE" => self.tie(card)?,
+                "TRANSFORM" => self.transform(card)?,
+                "CONTACTPAIR" => self.contact_pair(card)?,
+                "SURFACEINTERACTION" => self.surface_interaction(card)?,
+                "SURFACEBEHAVIOR" => self.surface_behavior(card)?,
                 _ => {
                     if let Some((_, what)) = REFUSED.iter().find(|(r, _)| *r == k) {
                         return Err(self.files.error(

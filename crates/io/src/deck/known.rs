@@ -32,6 +32,10 @@ pub(super) const READ: &[&str] = &[
     "RIGID BODY",
     "DISTRIBUTING COUPLING",
     "TIE",
+    "TRANSFORM",
+    "CONTACT PAIR",
+    "SURFACE INTERACTION",
+    "SURFACE BEHAVIOR",
 ];
 
 /// Keywords skipped with a warning: they do not change the stiffness, the
@@ -81,8 +85,6 @@ pub(super) const IGNORED: &[&str] = &[
     "TIMEPOINTS",
     "PHYSICALCONSTANTS",
     "VALUESATINFINITY",
-    "SURFACEINTERACTION",
-    "SURFACEBEHAVIOR",
     "FRICTION",
     "GAPCONDUCTANCE",
     "CONTROLS",
@@ -109,7 +111,6 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
         "KINEMATICCOUPLING",
         "stiffness matrix (constraints between DOFs)",
     ),
-    ("CONTACTPAIR", "stiffness matrix"),
     ("CONTACT", "stiffness matrix"),
     ("GAP", "stiffness matrix"),
     ("SHELLSECTION", "stiffness and mass matrices"),
@@ -119,7 +120,6 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
     ("CONNECTORSECTION", "stiffness and mass matrices"),
     ("NODALTHICKNESS", "stiffness and mass matrices"),
     ("NORMAL", "stiffness matrix (beam and shell directions)"),
-    ("TRANSFORM", "stiffness matrix (DOF directions at nodes)"),
     ("SYSTEM", "node coordinates"),
     ("ROTARYINERTIA", "mass matrix"),
     ("NONSTRUCTURALMASS", "mass matrix"),

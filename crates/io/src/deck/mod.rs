@@ -36,7 +36,9 @@
 //! | `*DISTRIBUTING COUPLING, ELSET=` + a DCOUP3D element | a distributing coupling (RBE3) of the element's node to the listed nodes or node sets with their weights |
 //! | steps | the model is the one of the first `*FREQUENCY` step: `*BOUNDARY` and loads of later steps are skipped with one warning; a `*STEP, PERTURBATION` frequency step after a step with loads (`*CLOAD`, `*DLOAD`, `*DSLOAD`, `*TEMPERATURE`) is refused: CalculiX adds the preload's stress stiffening there |
 //! | `*STEP`, `*END STEP`, `*STATIC`, `*FREQUENCY`, outputs, loads, `*HEADING`, `*AMPLITUDE`, `*TEMPERATURE` (a frequency step uses the initial temperature), `*PLASTIC`, `*EXPANSION`, `*CONDUCTIVITY`, ... | skipped, listed in [`Deck::skipped`] (one note on the command line): they do not change K, M or D of the linear model (`*FREQUENCY` ignores damping, as in CalculiX) |
-//! | `*KINEMATIC COUPLING`, `*MATRIX ASSEMBLE`, `*MATRIX INPUT`, `*CONTACT PAIR`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*TRANSFORM`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
+//! | `*CONTACT PAIR, INTERACTION=, TYPE=NODE TO SURFACE or SURFACE TO SURFACE[, ADJUST=]` + `*SURFACE INTERACTION, NAME=` + `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TIED` | `slave surface, master surface` lines: tied contact, read as a `*TIE` (exact, where CalculiX uses penalty springs); ADJUST=distance moves slave nodes within it onto the master; any other behaviour (nonlinear contact) is refused |
+//! | `*TRANSFORM, NSET=, TYPE=R or C` | points a, b as in `*ORIENTATION`: `*BOUNDARY` and `*EQUATION` name local DOFs at the set's nodes (see `transform.rs`); the last `*TRANSFORM` naming a node holds |
+//! | `*KINEMATIC COUPLING`, `*MATRIX ASSEMBLE`, `*MATRIX INPUT`, `*CONTACT`, `*SHELL SECTION`, `*MEMBRANE SECTION`, `*BEAM GENERAL SECTION`, `*NORMAL`, `*ROTARY INERTIA`, `*HYPERELASTIC`, `*USER MATERIAL`, `*NGEN`, ... | refused: ignoring them would change K or M |
 //! | unknown keywords | refused, naming the file, the line and the nearest known keyword when one is close (`*BOUNDRY`: did you mean `*BOUNDARY`?); with [`DeckOptions::allow_unknown`] skipped and collected in [`Deck::unknown`] |
 //!
 //! Errors name the file and line that is wrong (an included file's own line)
@@ -50,6 +52,7 @@ mod build;
 mod cards;
 mod catalogue;
 mod constraints;
+mod contact;
 mod elasticity;
 mod keywords;
 mod known;
@@ -58,6 +61,7 @@ mod steps;
 mod temperature;
 #[cfg(test)]
 mod tests;
+mod transform;
 mod unknown;
 
 pub use catalogue::{Catalogue, MaterialEntry, SectionEntry};
