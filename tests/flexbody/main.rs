@@ -30,6 +30,7 @@ mod study;
 mod support;
 mod vehicle;
 mod vtu;
+mod whole_outputs;
 
 use flexbody::fem::Substructure;
 use flexbody::linalg::memory::Budget;

@@ -19,7 +19,9 @@
 //! in a few lines. Readers check every count and name the block and line of
 //! what is wrong. Writers go through [`write_atomically`]: a temporary file
 //! beside the target, renamed on success, so a failed write never leaves a
-//! half-written file.
+//! half-written file; a folder of files goes through a [`FileSet`], renamed
+//! only when every file is written, so it never mixes two bodies. Only
+//! regular files are replaced, never a device, a FIFO or a symbolic link.
 
 mod float_text;
 pub mod format;
@@ -97,6 +99,7 @@ pub fn check_writable(path: &Path) -> Result<(), ExportError> {
     if path.is_dir() {
         return Err(err(std::io::Error::other("it is a folder")));
     }
+    check_replaceable(path)?;
     let tmp = temporary(path)?;
     std::fs::File::create(&tmp).map_err(err)?;
     let _ = std::fs::remove_file(&tmp);
@@ -119,30 +122,96 @@ pub fn check_folder_writable(dir: &Path) -> Result<(), ExportError> {
     check_writable(dir)
 }
 
+/// Refuses to replace what is not a regular file: a device, a FIFO, a
+/// socket or a symbolic link at `path` (writing through them would not
+/// give a file, or would write elsewhere). A missing path is fine.
+fn check_replaceable(path: &Path) -> Result<(), ExportError> {
+    match std::fs::symlink_metadata(path) {
+        Ok(meta) if !meta.file_type().is_file() && !meta.is_dir() => Err(ExportError::Write {
+            path: path.to_path_buf(),
+            cause: std::io::Error::other(
+                "it is not a regular file (a symbolic link, device, FIFO or socket); \
+                 flexbody only writes regular files",
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Writes `bytes` to `path` through a temporary file and a rename.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), ExportError> {
-    let err = |source| ExportError::Write {
-        path: path.to_path_buf(),
-        cause: source,
-    };
-    let tmp = temporary(path)?;
-    let result = (|| {
-        let file = std::fs::File::create(&tmp)?;
-        let mut out = std::io::BufWriter::new(file);
-        write(&mut out)?;
-        out.flush()?;
-        out.get_ref().sync_all()?;
-        drop(out);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(err(e));
+    let mut set = FileSet::default();
+    set.stage(path, write)?;
+    set.commit()
+}
+
+/// Files written whole or not at all, as one: each goes to a temporary
+/// file beside its target; only when all are written are they renamed into
+/// place, in the order staged (an index last). A failed write, or a set
+/// dropped before [`FileSet::commit`], removes the temporary files and
+/// leaves the targets as they were.
+#[derive(Default)]
+pub struct FileSet {
+    /// (temporary file, target), in the order staged.
+    staged: Vec<(PathBuf, PathBuf)>,
+}
+
+impl FileSet {
+    /// Writes the content of `path` to its temporary file.
+    pub fn stage(
+        &mut self,
+        path: &Path,
+        write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<(), ExportError> {
+        check_replaceable(path)?;
+        if path.is_dir() {
+            return Err(ExportError::Write {
+                path: path.to_path_buf(),
+                cause: std::io::Error::other("it is a folder"),
+            });
+        }
+        let tmp = temporary(path)?;
+        let result = (|| {
+            let file = std::fs::File::create(&tmp)?;
+            let mut out = std::io::BufWriter::new(file);
+            write(&mut out)?;
+            out.flush()?;
+            out.get_ref().sync_all()
+        })();
+        self.staged.push((tmp, path.to_path_buf()));
+        result.map_err(|cause| ExportError::Write {
+            path: path.to_path_buf(),
+            cause,
+        })
     }
-    Ok(())
+
+    /// Renames every staged file into place.
+    pub fn commit(mut self) -> Result<(), ExportError> {
+        let staged = std::mem::take(&mut self.staged);
+        for (i, (tmp, path)) in staged.iter().enumerate() {
+            if let Err(cause) = std::fs::rename(tmp, path) {
+                for (tmp, _) in &staged[i..] {
+                    let _ = std::fs::remove_file(tmp);
+                }
+                return Err(ExportError::Write {
+                    path: path.clone(),
+                    cause,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for FileSet {
+    fn drop(&mut self) {
+        for (tmp, _) in &self.staged {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
 }
 
 /// The JSON document of a reduced body. Matrices are row-major arrays of

@@ -11,12 +11,13 @@
 //!
 //! Matrices are written dense (`%%MatrixMarket matrix array real general`,
 //! column by column) with round-trip precision; the reader also takes
-//! `coordinate` files (`general` or `symmetric`). Every file is written
-//! through [`write_atomically`]; `index.json` comes last, so a folder with an
-//! index always has its matrices.
+//! `coordinate` files (`general` or `symmetric`). The files are written
+//! as one [`FileSet`]: all to temporary files first, then renamed into
+//! place, `index.json` last; a write that fails (a full disk) leaves the
+//! folder's previous body whole, never a mix of two.
 
 use crate::float_text::push_exp;
-use crate::{write_atomically, ExportError};
+use crate::{ExportError, FileSet};
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
@@ -124,10 +125,13 @@ pub fn write_mtx(
     if let Some(d) = &body.damping {
         matrices.push(("damping", d));
     }
+    // Every file staged before any is renamed: a failed write leaves the
+    // folder's old body whole.
+    let mut set = FileSet::default();
     for (name, m) in matrices {
         let file = format!("{name}.mtx");
         let text = matrix_text(m, name);
-        write_atomically(&dir.join(&file), |out| out.write_all(text.as_bytes()))?;
+        set.stage(&dir.join(&file), |out| out.write_all(text.as_bytes()))?;
         files.insert(name.to_string(), file);
     }
     let node_ids: BTreeSet<NodeId> = body.dof_map.dofs().iter().map(|d| d.node).collect();
@@ -151,10 +155,11 @@ pub fn write_mtx(
         metadata: metadata.clone(),
         files,
     };
-    write_atomically(&dir.join("index.json"), |out| {
+    set.stage(&dir.join("index.json"), |out| {
         serde_json::to_writer_pretty(&mut *out, &index).map_err(std::io::Error::other)?;
         out.write_all(b"\n")
-    })
+    })?;
+    set.commit()
 }
 
 /// Reads a Matrix Market matrix (array or coordinate; real; general or
