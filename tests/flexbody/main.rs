@@ -20,6 +20,7 @@ mod file_kinds;
 mod guidance;
 mod interfaces;
 mod memory;
+mod model_constraints;
 mod model_files;
 mod plots;
 mod report_html;

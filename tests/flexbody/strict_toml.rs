@@ -8,7 +8,8 @@ use flexbody::scenario::{parse_model_file, read_model_file};
 use std::path::{Path, PathBuf};
 
 /// A model file with every table: a model of 3D beams, a planar beam, a
-/// point mass and springs, a coupling, damping; an interface with force
+/// point mass and springs, a coupling, an equation and an MPC, damping
+/// (a tie, which needs a deck's solids, is in `model_constraints.rs`); an interface with force
 /// groups, a track, a rigid body, a connection, a study, a simulation with
 /// a force history, and an FRF band.
 const EVERY_TABLE: &str = r#"title = "Every table of a model file"
@@ -89,6 +90,14 @@ name = "tip"
 kind = "rigid"
 point = 1001
 nodes = [4, 5]
+
+[[equation]]
+name = "level"
+terms = [{ node = 3, dof = "uz", coefficient = 1.0 }, { node = 2, dof = "uz", coefficient = -1.0 }]
+
+[[mpc]]
+kind = "beam"
+nodes = [2, 3]
 
 [damping]
 alpha = 0.1
@@ -260,6 +269,20 @@ const MODEL_KEYS: &[Misspelt] = &[
         "point",
     ),
     m(
+        "coefficient = -1.0",
+        "coefficent = -1.0",
+        "coefficent",
+        "in `terms[1]` of [[equation]] 'level'",
+        "coefficient",
+    ),
+    m(
+        "nodes = [2, 3]",
+        "node = [2, 3]",
+        "node",
+        "in [[mpc]] number 1",
+        "nodes",
+    ),
+    m(
         "beta = 1e-5",
         "betta = 1e-5",
         "betta",
@@ -396,6 +419,13 @@ const VALUES: &[Misspelt] = &[
         "yz",
         "for `dofs[2]` in [[boundary]] number 1",
         "uz",
+    ),
+    m(
+        "kind = \"beam\"",
+        "kind = \"beem\"",
+        "beem",
+        "for `kind` in [[mpc]] number 1",
+        "beam",
     ),
     m(
         "\"rigid\"",

@@ -14,6 +14,7 @@ use crate::coupling::Constraints;
 use crate::dof::{Dof, DofKind};
 use crate::model::NodeId;
 use crate::FemError;
+use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// A homogeneous linear constraint `sum_k c_k u_k = 0`; the first term's
@@ -63,8 +64,10 @@ impl Equation {
 
 /// The linearised CalculiX `*MPC`s: nodes held on a geometric figure that
 /// other nodes define, for small displacements. The node order and the
-/// dependent DOFs are CalculiX's.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+/// dependent DOFs are CalculiX's. In a model file: `"beam"`, `"plane"`,
+/// `"straight"`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum MpcKind {
     /// Two nodes keep their distance: `(x_a - x_b) . (u_a - u_b) = 0`; the
     /// dependent DOF is node a's along the largest component of `x_a - x_b`.

@@ -13,6 +13,7 @@
 
 use crate::constraint::Equation;
 use crate::dof::{Dof, DofKind};
+use crate::element::solid::Solid;
 use crate::element::SolidKind;
 use crate::model::NodeId;
 use crate::FemError;
@@ -59,6 +60,30 @@ pub fn solid_face(kind: SolidKind, face: usize) -> Option<&'static [usize]> {
         SolidKind::C3D6 => &WEDGE,
     };
     face.checked_sub(1).and_then(|f| table.get(f).copied())
+}
+
+/// The exterior faces of a set of solids: every face ([`solid_face`]) that
+/// no other solid of the set shares (the same nodes in any order), in the
+/// order of the solids and their faces. Faces shared with elements outside
+/// the set are exterior to it. Cost: linear in the faces.
+pub fn exterior_faces<'a>(solids: impl IntoIterator<Item = &'a Solid>) -> Vec<Face> {
+    let mut faces: Vec<Face> = Vec::new();
+    let mut count: HashMap<Vec<NodeId>, usize> = HashMap::new();
+    for solid in solids {
+        for face in (1..).map_while(|f| solid_face(solid.kind, f)) {
+            let nodes: Vec<NodeId> = face.iter().map(|&i| solid.nodes[i]).collect();
+            let mut key = nodes.clone();
+            key.sort_unstable();
+            *count.entry(key).or_default() += 1;
+            faces.push(Face { nodes });
+        }
+    }
+    faces.retain(|f| {
+        let mut key = f.nodes.clone();
+        key.sort_unstable();
+        count[&key] == 1
+    });
+    faces
 }
 
 /// A master face: its nodes in [`solid_face`] order (3, 4, 6 or 8).
@@ -501,5 +526,47 @@ mod tests {
             err.contains("tie 't'") && err.contains("node(s) 101"),
             "{err}"
         );
+    }
+
+    /// Two bricks side by side have 10 exterior faces (the shared one is
+    /// inside); a brick alone has its 6, a tetrahedron its 4.
+    #[test]
+    fn exterior_faces_leave_out_the_shared_ones() {
+        use crate::element::solid::Solid;
+        use crate::mesh::BrickBlock;
+        use crate::{Element, Material};
+        let material = Material::new(2.1e11, 0.3, 7850.0).unwrap();
+        let block = BrickBlock {
+            cells: [2, 1, 1],
+            origin: [0.0; 3],
+            size: [2.0, 1.0, 1.0],
+        };
+        let elements = block.elements(&material);
+        let solids: Vec<&Solid> = elements
+            .iter()
+            .filter_map(|e| match e {
+                Element::Solid(s) => Some(s),
+                _ => None,
+            })
+            .collect();
+        let both = exterior_faces(solids.iter().copied());
+        assert_eq!(both.len(), 10);
+        // The face x = 1 is shared: none of the exterior faces has all its
+        // nodes there.
+        let mid: Vec<NodeId> = (0..2)
+            .flat_map(|j| (0..2).map(move |k| (j, k)))
+            .map(|(j, k)| block.node([1, j, k]))
+            .collect();
+        assert!(both
+            .iter()
+            .all(|f| !f.nodes.iter().all(|n| mid.contains(n))));
+        assert_eq!(exterior_faces(solids[..1].iter().copied()).len(), 6);
+        let tet = Solid {
+            id: 1,
+            kind: SolidKind::C3D4,
+            nodes: vec![1, 2, 3, 4],
+            material,
+        };
+        assert_eq!(exterior_faces([&tet]).len(), 4);
     }
 }

@@ -81,6 +81,9 @@ pub struct Deck {
     pub model: flexbody_fem::Model,
     /// Element sets (ELSET name -> element ids), upper-case names.
     pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// Element-based surfaces (`*SURFACE, TYPE=ELEMENT`) as written, by
+    /// upper-case name, for the master surface of a model file's tie.
+    pub element_surfaces: BTreeMap<String, Vec<SurfaceFaces>>,
     /// Materials and sections by name.
     pub catalogue: Catalogue,
     /// What was ignored and may matter: ignored parameters, element-based
@@ -118,6 +121,17 @@ impl Deck {
     }
 }
 
+/// One line of an element-based `*SURFACE`: the faces `face` (S1 is 1) of
+/// an element or of every element of an element set.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SurfaceFaces {
+    /// An element number, or an element set's upper-case name.
+    pub elements: String,
+    /// The face number, 1 to 6, in Abaqus/CalculiX numbering
+    /// ([`flexbody_fem::tie::solid_face`]).
+    pub face: usize,
+}
+
 /// Reads and checks a deck file.
 pub fn read_deck(path: &Path, options: &DeckOptions) -> Result<Deck, InputError> {
     let bytes = std::fs::read(path).map_err(|source| InputError::Read {
@@ -136,11 +150,26 @@ pub fn parse_deck(path: &Path, text: &str, options: &DeckOptions) -> Result<Deck
     let unknown = std::mem::take(&mut reader.unknown);
     let catalogue = Catalogue::of(&reader);
     let skipped = std::mem::take(&mut reader.skipped);
+    let element_surfaces = reader
+        .element_surfaces
+        .iter()
+        .map(|(surface, lines)| {
+            let faces = lines
+                .iter()
+                .map(|(elements, face, _)| SurfaceFaces {
+                    elements: cards::name(elements),
+                    face: *face,
+                })
+                .collect();
+            (surface.clone(), faces)
+        })
+        .collect();
     let built = build::build(reader)?;
     Ok(Deck {
         path: path.to_path_buf(),
         model: built.model,
         element_sets: built.element_sets,
+        element_surfaces,
         catalogue,
         warnings: built.warnings,
         skipped,

@@ -1,22 +1,27 @@
 //! From the raw model sections to a checked [`Model`], one section at a
 //! time, in the order the sections depend on each other: materials and
 //! sections, nodes, beam lines, the deck's model, elements, node sets,
-//! boundary conditions, couplings. Every error names the line.
+//! boundary conditions, couplings, constraints (equations, MPCs, ties).
+//! Every error names the line.
 //!
 //! A `mesh` deck contributes its whole model: nodes, elements, node sets,
-//! fixed DOFs, couplings and damping, and its warnings. The file's own
+//! fixed DOFs, couplings, equations and damping, and its warnings. The file's own
 //! sections add to it; its `[damping]` replaces the deck's, nothing else
 //! is replaced or dropped.
 
 mod beam_lines;
+mod constraints;
 
 use super::raw::{RawElement, RawModel};
-use crate::deck::{Catalogue, DeckOptions, MaterialEntry, SectionEntry, UnknownKeywords};
+use crate::deck::{
+    Catalogue, DeckOptions, MaterialEntry, SectionEntry, SurfaceFaces, UnknownKeywords,
+};
 use crate::{InputError, TomlSource};
 use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
 use flexbody_fem::section::SectionConstants;
 use flexbody_fem::{
-    BeamProperties, BeamTheory, Coupling, Dof, Element, FemError, Material, Model, Node, Rayleigh,
+    BeamProperties, BeamTheory, Coupling, Dof, Element, Equation, FemError, Material, Model, Node,
+    Rayleigh,
 };
 use std::collections::{BTreeMap, HashMap, HashSet};
 use toml::Spanned;
@@ -74,6 +79,7 @@ pub(crate) fn build(
     b.node_sets(raw, &known)?;
     b.boundaries(raw, &known)?;
     let couplings = b.couplings(raw, &known)?;
+    let constraints = b.constraints(raw, &known)?;
     let element_sets = std::mem::take(&mut b.deck_element_sets);
     let mut catalogue = file_catalogue(raw);
     let deck = std::mem::take(&mut b.deck_catalogue);
@@ -82,7 +88,7 @@ pub(crate) fn build(
     Ok(Built {
         element_sets,
         catalogue,
-        model: b.finish(raw, couplings)?,
+        model: b.finish(raw, couplings, constraints)?,
         unknown,
         warnings,
         notes,
@@ -166,10 +172,16 @@ struct Builder<'a> {
     deck_fixed: Vec<Dof>,
     /// Couplings of the deck, with the file's own.
     deck_couplings: Vec<Coupling>,
+    /// Equations of the deck (`*EQUATION`, `*MPC`, `*TIE`), before the
+    /// file's own.
+    deck_equations: Vec<Equation>,
     /// Damping of the deck, unless the file has `[damping]`.
     deck_damping: Option<Rayleigh>,
-    /// Element sets, materials and sections of the deck, for the user.
+    /// Element sets, materials and sections of the deck, for the user
+    /// (and the element sets for ties).
     deck_element_sets: BTreeMap<String, Vec<usize>>,
+    /// Element surfaces of the deck, for ties.
+    deck_surfaces: BTreeMap<String, Vec<SurfaceFaces>>,
     deck_catalogue: Catalogue,
 }
 
@@ -227,8 +239,10 @@ impl<'a> Builder<'a> {
             fixed: Vec::new(),
             deck_fixed: Vec::new(),
             deck_couplings: Vec::new(),
+            deck_equations: Vec::new(),
             deck_damping: None,
             deck_element_sets: BTreeMap::new(),
+            deck_surfaces: BTreeMap::new(),
             deck_catalogue: Catalogue::default(),
         })
     }
@@ -293,8 +307,9 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
-    /// `mesh = "deck.inp"`: the deck's model, every part of it (nodes,
-    /// elements, node sets, fixed DOFs, couplings, damping); the unknown
+    /// `mesh = "deck.inp"`: the deck's model, every part of it (nodes as
+    /// its ties' ADJUST left them, elements, node sets, fixed DOFs,
+    /// couplings, equations, damping); the unknown
     /// keywords it skipped, its warnings and its note, each naming the deck.
     fn deck_mesh(
         &mut self,
@@ -318,8 +333,10 @@ impl<'a> Builder<'a> {
         }
         self.deck_fixed = deck.model.fixed_dofs().copied().collect();
         self.deck_couplings = deck.model.couplings().to_vec();
+        self.deck_equations = deck.model.equations().to_vec();
         self.deck_damping = deck.model.rayleigh();
         self.deck_element_sets = deck.element_sets.clone();
+        self.deck_surfaces = deck.element_surfaces.clone();
         self.deck_catalogue = deck.catalogue.clone();
         let notes = deck.skipped_note().into_iter().collect();
         let warnings = deck.warning_lines();
@@ -528,13 +545,15 @@ impl<'a> Builder<'a> {
         p
     }
 
-    /// The model, its couplings eliminated; errors of the model and of
-    /// element geometry point at the line of the element, boundary condition
-    /// or coupling where they can.
+    /// The model, its couplings and equations eliminated; errors of the
+    /// model and of element geometry point at the line of the element,
+    /// boundary condition, coupling or constraint where they can (a deck's
+    /// constraint at the `mesh` line).
     fn finish(
         self,
         raw: &RawModel,
         couplings: Vec<(usize, Coupling)>,
+        constraints: constraints::FileConstraints,
     ) -> Result<Model, InputError> {
         let src = self.src;
         let coupling_lines: Vec<(String, usize)> = couplings
@@ -542,6 +561,13 @@ impl<'a> Builder<'a> {
             .map(|(o, c)| (c.name.clone(), src.line(*o)))
             .collect();
         let element_line = self.element_line;
+        let mesh_line = raw.mesh.as_ref().map(|m| src.line(m.span().start));
+        let deck_constraints: HashSet<String> =
+            self.deck_equations.iter().map(|e| e.name.clone()).collect();
+        let constraint_line = |name: &str| match constraints.entries.get(name) {
+            Some(offset) => Some(src.line(*offset)),
+            None => mesh_line.filter(|_| deck_constraints.contains(name)),
+        };
         let mut parts = Model::of(self.nodes, self.elements)
             .node_sets(self.sets)
             .fixed(self.fixed)
@@ -549,6 +575,12 @@ impl<'a> Builder<'a> {
                 self.deck_couplings
                     .into_iter()
                     .chain(couplings.into_iter().map(|(_, c)| c))
+                    .collect(),
+            )
+            .equations(
+                self.deck_equations
+                    .into_iter()
+                    .chain(constraints.equations)
                     .collect(),
             );
         if let Some(damping) = raw.damping.or(self.deck_damping) {
@@ -570,6 +602,7 @@ impl<'a> Builder<'a> {
                     .iter()
                     .find(|(n, _)| n == name)
                     .map(|(_, l)| *l),
+                FemError::InvalidConstraint { name, .. } => constraint_line(name),
                 _ => None,
             };
             InputError::Invalid {

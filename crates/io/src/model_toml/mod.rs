@@ -1,7 +1,8 @@
 //! The model part of a TOML model file (format documented in
 //! `docs/model-file.md`): title, mesh deck, materials, sections, nodes,
-//! beam lines, elements, node sets, boundary conditions, couplings and
-//! damping, read into a [`flexbody_fem::Model`].
+//! beam lines, elements, node sets, boundary conditions, couplings,
+//! constraints (equations, MPCs, ties) and damping, read into a
+//! [`flexbody_fem::Model`].
 //!
 //! The file's other tables (interface, MBS, study, simulation, frequency
 //! response) describe what is done with the model; they are read by the
@@ -51,6 +52,9 @@ pub const MODEL_KEYS: &[&str] = &[
     "sets",
     "boundary",
     "coupling",
+    "equation",
+    "mpc",
+    "tie",
     "damping",
 ];
 

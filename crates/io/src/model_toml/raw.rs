@@ -1,7 +1,7 @@
 //! The model sections of a TOML model file as written, with source spans.
 //! Checked and turned into a [`flexbody_fem::Model`] by [`super::build`].
 
-use flexbody_fem::{BeamTheory, CouplingKind, DofKind, Rayleigh, SectionShape};
+use flexbody_fem::{BeamTheory, CouplingKind, DofKind, MpcKind, Rayleigh, SectionShape};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
@@ -31,6 +31,12 @@ pub(crate) struct RawModel {
     pub sets: BTreeMap<String, Spanned<Vec<u64>>>,
     #[serde(default)]
     pub boundary: Vec<Spanned<RawBoundary>>,
+    #[serde(default)]
+    pub equation: Vec<Spanned<RawEquation>>,
+    #[serde(default)]
+    pub mpc: Vec<Spanned<RawMpc>>,
+    #[serde(default)]
+    pub tie: Vec<Spanned<RawTie>>,
     pub damping: Option<Rayleigh>,
 }
 
@@ -199,6 +205,64 @@ pub(crate) struct RawCoupling {
     pub nodes: Option<Vec<u64>>,
     #[serde(default)]
     pub weights: Option<Vec<f64>>,
+}
+
+/// An `[[equation]]`: `sum_k c_k u_k = 0`, the first term's DOF dependent
+/// (eliminated), as `*EQUATION`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEquation {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub terms: Vec<Spanned<RawTerm>>,
+}
+
+/// One term of an `[[equation]]`: `{ node = 7, dof = "uz", coefficient = 1.0 }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTerm {
+    pub node: u64,
+    pub dof: DofKind,
+    pub coefficient: f64,
+}
+
+/// An `[[mpc]]`: CalculiX's linearised `*MPC` of `kind` on `nodes` (the
+/// defining nodes first, as [`MpcKind`] says).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMpc {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub kind: MpcKind,
+    pub nodes: Vec<u64>,
+}
+
+/// A `[[tie]]`: slave nodes (`set` or `nodes`) held on master solid faces
+/// (`master`, an element surface of the deck, and/or the exterior faces of
+/// the deck's element set `master_elements`), as `*TIE`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTie {
+    pub name: String,
+    #[serde(default)]
+    pub set: Option<String>,
+    #[serde(default)]
+    pub nodes: Option<Vec<u64>>,
+    #[serde(default)]
+    pub master: Option<String>,
+    #[serde(default)]
+    pub master_elements: Option<String>,
+    /// Largest distance (m) of a slave node from the master surface;
+    /// default: [`flexbody_fem::Tie`]'s.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// Move the slave nodes onto the master surface (CalculiX's ADJUST).
+    #[serde(default = "default_adjust")]
+    pub adjust: bool,
+}
+
+fn default_adjust() -> bool {
+    true
 }
 
 #[cfg(test)]
