@@ -108,7 +108,7 @@ enum Command {
         modes: Option<usize>,
         /// Instead of --modes: every eigenmode below this frequency (Hz), the
         /// report's e = modes in the excitation band.
-        #[arg(long)]
+        #[arg(long, value_parser = parse_frequency)]
         fmax: Option<f64>,
         /// Reduced-body file to write (a folder for --format mtx).
         #[arg(long)]
@@ -190,7 +190,7 @@ enum Command {
         count: Option<usize>,
         /// Every mode below this frequency (Hz), counted by the Sturm
         /// sequence; with --count N, only the lowest N of them.
-        #[arg(long)]
+        #[arg(long, value_parser = parse_frequency)]
         fmax: Option<f64>,
         /// Print {"dofs":..,"frequencies_hz":[..],"residuals":[..]}.
         #[arg(long)]
@@ -255,6 +255,15 @@ fn parse_method(s: &str) -> Result<Method, String> {
             names.join(", ")
         )
     })
+}
+
+/// `--fmax`: a positive, finite frequency in Hz (NaN would ask for no
+/// eigenmode at all).
+fn parse_frequency(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+        _ => Err(format!("'{s}' is not a positive frequency in Hz")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -604,16 +613,14 @@ fn vtu_encoding(ascii: bool) -> VtuEncoding {
 }
 
 /// The modes `flexbody modes` computes: `--count` (default 10), every one
-/// below `--fmax`, or, with both given, the lowest `--count` below `--fmax`.
+/// below `--fmax` (positive, checked by [`parse_frequency`]), or, with both
+/// given, the lowest `--count` below `--fmax`.
 fn modes_wanted(count: Option<usize>, fmax: Option<f64>) -> Result<red::modes::Wanted> {
     use red::modes::Wanted;
     if count == Some(0) {
         anyhow::bail!("--count must be at least 1");
     }
     Ok(match (count, fmax) {
-        (_, Some(f)) if !(f.is_finite() && f > 0.0) => {
-            anyhow::bail!("--fmax must be a positive frequency in Hz, not {f}")
-        }
         (None, Some(f)) => Wanted::below_hz(f),
         (Some(count), Some(f)) => Wanted::lowest_below_hz(count, f),
         (count, None) => Wanted::Lowest(count.unwrap_or(10)),

@@ -79,9 +79,42 @@ fn modes_below_a_frequency_are_the_lowest_ones_up_to_it() {
             assert!((a - b).abs() <= 1e-9 * b, "{a} vs {b}");
         }
     }
-    let o = flexbody(&["modes", model.to_str().unwrap(), "--fmax=-3"]);
-    assert!(!o.status.success());
-    assert!(stderr(&o).contains("--fmax must be a positive frequency"));
+    // A band that is no frequency is refused, by `reduce` as by `modes`
+    // (NaN once asked `reduce` for no eigenmode at all).
+    let m = model.to_str().unwrap();
+    for args in [
+        vec!["modes", m, "--fmax=-3"],
+        vec!["modes", m, "--fmax", "nan"],
+        vec![
+            "reduce",
+            m,
+            "--method",
+            "free",
+            "--fmax",
+            "nan",
+            "--out",
+            "never.json",
+        ],
+        vec![
+            "reduce",
+            m,
+            "--method",
+            "craig-bampton",
+            "--fmax",
+            "inf",
+            "--out",
+            "never.json",
+        ],
+    ] {
+        let o = flexbody(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&o).contains("is not a positive frequency in Hz"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    assert!(!std::path::Path::new("never.json").exists());
 }
 
 #[test]
