@@ -24,6 +24,14 @@ pub(super) fn rigid_bodies(src: TomlSource<'_>, raw: &RawFile) -> Result<RigidBo
         }
         flexbody_fem::require_positive(format!("mass of rigid body '{}'", b.name), b.mass)
             .map_err(|e| src.at(rb, e.to_string()))?;
+        flexbody_fem::require_inertia(format!("inertia of rigid body '{}'", b.name), b.inertia)
+            .map_err(|e| src.at(rb, e.to_string()))?;
+        if let Some(c) = b.center.iter().find(|c| !c.is_finite()) {
+            return Err(src.at(
+                rb,
+                format!("rigid body '{}': center {c} is not finite", b.name),
+            ));
+        }
         let idx = if b.fixed {
             None
         } else {

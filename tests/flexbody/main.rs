@@ -18,6 +18,7 @@ mod export;
 mod exudyn;
 mod file_kinds;
 mod guidance;
+mod hostile_values;
 mod interfaces;
 mod memory;
 mod model_constraints;

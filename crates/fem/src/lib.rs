@@ -92,6 +92,44 @@ pub fn require_positive(what: impl Into<String>, value: f64) -> Result<f64, FemE
     }
 }
 
+/// Checks an inertia tensor `[ixx, iyy, izz, ixy, iyz, ixz]` (kg m^2):
+/// finite and positive semi-definite (every principal minor not negative,
+/// to round-off of its size), as the inertia of matter is. `what` names it.
+pub fn require_inertia(what: impl Into<String>, inertia: [f64; 6]) -> Result<(), FemError> {
+    let [xx, yy, zz, xy, yz, xz] = inertia;
+    let bad = |rule: &'static str, value: f64| {
+        Err(FemError::InvalidValue {
+            what: what.into(),
+            rule,
+            value,
+        })
+    };
+    if let Some(v) = inertia.iter().find(|v| !v.is_finite()) {
+        return bad("finite", *v);
+    }
+    let scale = inertia.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let tol = 1e-12 * scale;
+    if let Some(v) = [xx, yy, zz].into_iter().find(|v| *v < -tol) {
+        return bad("a positive semi-definite tensor (moments not negative)", v);
+    }
+    for minor in [xx * yy - xy * xy, yy * zz - yz * yz, xx * zz - xz * xz] {
+        if minor < -tol * scale {
+            return bad(
+                "a positive semi-definite tensor (products of inertia too large for the moments)",
+                minor,
+            );
+        }
+    }
+    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    if det < -tol * scale * scale {
+        return bad(
+            "a positive semi-definite tensor (products of inertia too large for the moments)",
+            det,
+        );
+    }
+    Ok(())
+}
+
 /// Checks that `value` is finite and not negative.
 pub fn require_non_negative(what: impl Into<String>, value: f64) -> Result<f64, FemError> {
     if value.is_finite() && value >= 0.0 {

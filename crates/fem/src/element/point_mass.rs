@@ -56,6 +56,13 @@ impl ElementBehaviour for PointMass {
         false
     }
 
+    /// The mass finite and not negative, the inertia tensor finite and
+    /// positive semi-definite.
+    fn validate(&self, _model: &Model) -> Result<(), FemError> {
+        crate::require_non_negative(format!("mass of point mass {}", self.id), self.mass)?;
+        crate::require_inertia(format!("inertia of point mass {}", self.id), self.inertia)
+    }
+
     /// Mass on the node's six DOFs (translations: `mass`, rotations: the
     /// inertia tensor); the assembler drops those the model does not have.
     fn matrices(&self, _model: &Model) -> Result<ElementMatrices, FemError> {

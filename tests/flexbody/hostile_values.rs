@@ -1,0 +1,84 @@
+//! Values that are numbers but not physics are refused where they are
+//! read, naming the file and line: inertia tensors that are not positive
+//! semi-definite or not finite (once accepted, or failing late as a
+//! singular matrix at some node), and a band `--fmax` that is no frequency
+//! (`cli_modes.rs`).
+
+use super::support::fails_with;
+use std::path::PathBuf;
+
+fn vehicle() -> String {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/vehicle.toml");
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// `text` with `from` replaced by `to`, written to `dir/name`.
+fn write(dir: &std::path::Path, name: &str, text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "{from}");
+    let path = dir.join(name);
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+#[test]
+fn a_rigid_body_inertia_must_be_positive_semi_definite_and_finite() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = vehicle();
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("[[rigid_body]]"))
+        .unwrap()
+        + 1;
+    let from = "inertia = [0.0, 4000.0, 0.0, 0.0, 0.0, 0.0]";
+    for (to, rule) in [
+        (
+            "inertia = [0.0, -4000.0, 0.0, 0.0, 0.0, 0.0]",
+            "moments not negative",
+        ),
+        (
+            "inertia = [10.0, 4000.0, 10.0, 300.0, 0.0, 0.0]",
+            "products of inertia",
+        ),
+        ("inertia = [0.0, nan, 0.0, 0.0, 0.0, 0.0]", "finite"),
+    ] {
+        let model = write(dir.path(), "v.toml", &text, from, to);
+        fails_with(
+            &[
+                "simulate",
+                &model,
+                "--out",
+                dir.path().join("out").to_str().unwrap(),
+            ],
+            &[
+                &format!("v.toml:{line}"),
+                "inertia of rigid body 'car_body'",
+                rule,
+            ],
+        );
+    }
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn a_point_mass_inertia_must_be_positive_semi_definite_and_finite() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = vehicle();
+    // A point mass on the side beam's first node, after the last table of
+    // the file's FE model.
+    let anchor = "[[rigid_body]]";
+    for (inertia, rule) in [
+        ("[1.0, 1.0, -1.0, 0.0, 0.0, 0.0]", "moments not negative"),
+        ("[1.0, 1.0, 1.0, 0.0, 0.0, 5.0]", "products of inertia"),
+        ("[1.0, inf, 1.0, 0.0, 0.0, 0.0]", "finite"),
+    ] {
+        let mass = format!(
+            "[[element]]\ntype = \"point-mass\"\nid = 9001\nnode = 1\nmass = 2.0\n\
+             inertia = {inertia}\n\n{anchor}"
+        );
+        let model = write(dir.path(), "m.toml", &text, anchor, &mass);
+        fails_with(
+            &["info", &model],
+            &["m.toml:", "inertia of point mass 9001", rule],
+        );
+    }
+}
