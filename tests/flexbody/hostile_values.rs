@@ -2,7 +2,8 @@
 //! read, naming the file and line: inertia tensors that are not positive
 //! semi-definite or not finite (once accepted, or failing late as a
 //! singular matrix at some node), and a band `--fmax` that is no frequency
-//! (`cli_modes.rs`).
+//! (`cli_modes.rs`); and the messages that say so name each cause once
+//! and no empty line number.
 
 use super::support::fails_with;
 use std::path::PathBuf;
@@ -81,4 +82,30 @@ fn a_point_mass_inertia_must_be_positive_semi_definite_and_finite() {
             &["m.toml:", "inertia of point mass 9001", rule],
         );
     }
+}
+
+#[test]
+fn a_message_names_each_cause_once_and_no_empty_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.json"), "{\"format\": \"x\"}").unwrap();
+    let text = vehicle().replace("modes = 1\n", "");
+    let from = "method = \"free-residual\"";
+    let model = write(dir.path(), "v.toml", &text, from, "body = \"bad.json\" #");
+    let o = super::support::flexbody(&[
+        "simulate",
+        &model,
+        "--out",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
+    let err = super::support::stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("missing field").count(), 1, "{err}");
+    assert!(err.contains("reading the reduced body: "), "{err}");
+    // A model without DOFs has no line to name: `file: message`.
+    let deck = dir.path().join("nodes.inp");
+    std::fs::write(&deck, "*NODE\n1, 0, 0, 0\n").unwrap();
+    fails_with(
+        &["info", deck.to_str().unwrap()],
+        &["nodes.inp: the model has no DOFs"],
+    );
 }

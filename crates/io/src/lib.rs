@@ -30,7 +30,8 @@ pub enum InputError {
         path: PathBuf,
         cause: std::io::Error,
     },
-    #[error("{}:{}: {message}", .path.display(), .line.map_or_else(String::new, |l| l.to_string()))]
+    /// `path:line: message`, or `path: message` where no line applies.
+    #[error("{}{}: {message}", .path.display(), .line.map_or_else(String::new, |l| format!(":{l}")))]
     Invalid {
         path: PathBuf,
         line: Option<usize>,
