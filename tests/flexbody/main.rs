@@ -30,6 +30,7 @@ mod sid;
 mod strict_toml;
 mod study;
 mod support;
+mod tie_convergence;
 mod vehicle;
 mod vtu;
 mod whole_outputs;
