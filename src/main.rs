@@ -286,7 +286,8 @@ fn main() -> ExitCode {
 
 /// The error and its causes, `outer: inner: ...`, each cause once: a
 /// wrapper that already prints its cause (`"reading the body: {0}"`) is
-/// not followed by that cause again.
+/// not followed by that cause again. A cause that quotes a huge piece of
+/// its input (a 2 GiB line) is cut to its start and end.
 fn message(e: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in e.chain() {
@@ -297,9 +298,33 @@ fn message(e: &anyhow::Error) -> String {
         if !out.is_empty() {
             out.push_str(": ");
         }
-        out.push_str(&text);
+        out.push_str(&shortened(&text));
     }
     out
+}
+
+/// `text`, or its first and last few hundred bytes when it is longer than
+/// [`MESSAGE_BYTES`], saying how much was left out.
+fn shortened(text: &str) -> std::borrow::Cow<'_, str> {
+    const MESSAGE_BYTES: usize = 1000;
+    if text.len() <= MESSAGE_BYTES {
+        return text.into();
+    }
+    let mut head = 600;
+    while !text.is_char_boundary(head) {
+        head -= 1;
+    }
+    let mut tail = text.len() - 300;
+    while !text.is_char_boundary(tail) {
+        tail += 1;
+    }
+    format!(
+        "{} [... {} bytes left out ...] {}",
+        &text[..head],
+        tail - head,
+        &text[tail..]
+    )
+    .into()
 }
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {

@@ -3,7 +3,8 @@
 //! semi-definite or not finite (once accepted, or failing late as a
 //! singular matrix at some node), and a band `--fmax` that is no frequency
 //! (`cli_modes.rs`); and the messages that say so name each cause once
-//! and no empty line number.
+//! and no empty line number, and quote no more than a short excerpt of a
+//! huge line.
 
 use super::support::fails_with;
 use std::path::PathBuf;
@@ -107,5 +108,25 @@ fn a_message_names_each_cause_once_and_no_empty_line() {
     fails_with(
         &["info", deck.to_str().unwrap()],
         &["nodes.inp: the model has no DOFs"],
+    );
+}
+
+#[test]
+fn a_huge_line_is_not_echoed_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    // A 3 MB coordinate in a deck, as a corrupted or hostile file has it.
+    let deck = dir.path().join("big.inp");
+    let huge = "9".repeat(3_000_000);
+    std::fs::write(&deck, format!("*NODE\n1, {huge}, 0, 0\n")).unwrap();
+    let o = super::support::flexbody(&["info", deck.to_str().unwrap()]);
+    let err = super::support::stderr(&o);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(err.len() < 1500, "{} bytes", err.len());
+    assert!(
+        err.starts_with("error: ")
+            && err.contains("big.inp:2: node 1: coordinate 1")
+            && err.contains("bytes left out"),
+        "{}",
+        &err[..200]
     );
 }
