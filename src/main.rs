@@ -62,6 +62,11 @@ struct Cli {
     /// No progress lines on stderr (warnings and errors still show).
     #[arg(long, short, global = true, conflicts_with = "verbose")]
     quiet: bool,
+    /// Write through a symbolic link given as an output file (--out,
+    /// --vtu, --report): the file it leads to is replaced, the link kept.
+    /// Without it such a link is refused, as are devices and FIFOs.
+    #[arg(long, global = true)]
+    follow_symlinks: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -332,6 +337,9 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     let deck = DeckOptions {
         allow_unknown: cli.allow_unknown,
     };
+    let follow = cli.follow_symlinks;
+    let output = |path: PathBuf| output_path(path, follow);
+    let output_opt = |path: Option<PathBuf>| path.map(output).transpose();
     match cli.command {
         Command::Study {
             model,
@@ -342,7 +350,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
         } => run_study(
             &model,
             json,
-            (out, no_plots, report),
+            (out, no_plots, output_opt(report)?),
             deck,
             budget,
             progress,
@@ -361,23 +369,26 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             orthonormalize,
             json,
             check,
-        } => run_reduce(
-            &model,
-            interface.as_deref(),
-            &matrices,
-            deck,
-            method,
-            (modes, fmax),
-            (
-                &out,
-                format,
-                vtu.as_deref().map(|p| (p, vtu_encoding(vtu_ascii))),
-            ),
-            orthonormalize,
-            (json, check),
-            budget,
-            progress,
-        ),
+        } => {
+            let (out, vtu) = (output(out)?, output_opt(vtu)?);
+            run_reduce(
+                &model,
+                interface.as_deref(),
+                &matrices,
+                deck,
+                method,
+                (modes, fmax),
+                (
+                    &out,
+                    format,
+                    vtu.as_deref().map(|p| (p, vtu_encoding(vtu_ascii))),
+                ),
+                orthonormalize,
+                (json, check),
+                budget,
+                progress,
+            )
+        }
         Command::Modes {
             model,
             matrices,
@@ -414,6 +425,34 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     }
 }
 
+/// An output file's path as given, or with `follow` the file a symbolic
+/// link there leads to (which must exist or be creatable: a dangling link
+/// is an error naming it).
+fn output_path(path: PathBuf, follow: bool) -> Result<PathBuf> {
+    let is_link = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink());
+    if !(follow && is_link) {
+        return Ok(path);
+    }
+    let target = std::fs::read_link(&path)
+        .map_err(|e| anyhow::anyhow!("{}: cannot read the symbolic link: {e}", path.display()))?;
+    let target = match path.parent() {
+        Some(dir) if target.is_relative() => dir.join(target),
+        _ => target,
+    };
+    // A link to a link: resolved to its end by the system (whose bound on
+    // chains stops a loop).
+    if std::fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+        return std::fs::canonicalize(&target).map_err(|e| {
+            anyhow::anyhow!(
+                "{}: the symbolic link leads to {}, which cannot be resolved: {e}",
+                path.display(),
+                target.display()
+            )
+        });
+    }
+    Ok(target)
+}
+
 fn run_study(
     model: &Path,
     json: bool,
@@ -436,7 +475,13 @@ fn run_study(
     if let Some(path) = &html {
         export::check_writable(path)?;
     }
-    let folder = dir.as_deref().map(OutputFolder::make).transpose()?;
+    let folder = dir
+        .as_deref()
+        .map(|d| {
+            let omegas = file.study.as_ref().map_or(&[][..], |s| &s.omegas[..]);
+            OutputFolder::make(d, &plot::first_study_plot(omegas))
+        })
+        .transpose()?;
     let result = study::run_study(&file, budget, progress)?;
     if let Some(dir) = &dir {
         plot::plot_study(dir, &result).map_err(anyhow::Error::msg)?;
@@ -515,7 +560,7 @@ fn run_reduce(
 ) -> Result<()> {
     // A wrong output path fails now, not after the reduction.
     match format {
-        export::Format::Mtx => export::check_folder_writable(out)?,
+        export::Format::Mtx => export::check_folder_writable(out, "index.json")?,
         _ => export::check_writable(out)?,
     }
     if let Some((path, _)) = vtu {
@@ -763,7 +808,7 @@ fn peak_memory() -> String {
 /// body is reduced (unless `full`), so that a bad path fails first.
 fn vehicle(
     model: &Path,
-    out: &Path,
+    (out, first): (&Path, &str),
     full: bool,
     deck: DeckOptions,
     budget: Budget,
@@ -771,7 +816,7 @@ fn vehicle(
 ) -> Result<(Vehicle, OutputFolder)> {
     let v = Vehicle::read_with(model, &deck)?;
     warn_deck(&v.file.notes, &v.file.warnings, &v.file.unknown_keywords);
-    let folder = OutputFolder::make(out)?;
+    let folder = OutputFolder::make(out, first)?;
     Ok((
         if full {
             v
@@ -790,10 +835,10 @@ fn run_simulate(
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
+    let (v, folder) = vehicle(model, (out, "histories.csv"), full, deck, budget, progress)?;
     let h = simulate::run_simulation(&v.file, v.flexible())?;
     let csv = out.join("histories.csv");
-    simulate::write_csv(&csv, "time (s)", &h.times, &h.columns)?;
+    flexbody::export::columns::write_columns(&csv, "time (s)", &h.times, &h.columns)?;
     folder.keep();
     let plots = plot::plot_histories(out, &h, v.label()).map_err(anyhow::Error::msg)?;
     say!(
@@ -818,10 +863,10 @@ fn run_frf(
     budget: Budget,
     progress: &dyn Progress,
 ) -> Result<()> {
-    let (v, folder) = vehicle(model, out, full, deck, budget, progress)?;
+    let (v, folder) = vehicle(model, (out, "frf.csv"), full, deck, budget, progress)?;
     let t = simulate::run_frf(&v.file, v.flexible())?;
     let csv = out.join("frf.csv");
-    simulate::write_csv(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
+    flexbody::export::columns::write_columns(&csv, "f (Hz)", &t.frequencies_hz, &t.columns())?;
     folder.keep();
     let plots =
         plot::plot_transfer(out, &t, v.file.connections.len()).map_err(anyhow::Error::msg)?;

@@ -24,9 +24,10 @@ pub struct OutputFolder {
 }
 
 impl OutputFolder {
-    /// Makes the output folder `dir` and checks that it takes files, so
+    /// Makes the output folder `dir` and checks that it takes files (the
+    /// error names `first`, the first file the command writes there), so
     /// that a path that cannot be written fails before the computation.
-    pub fn make(dir: &Path) -> Result<Self, OutputError> {
+    pub fn make(dir: &Path, first: &str) -> Result<Self, OutputError> {
         let folder = Self {
             made: dir
                 .ancestors()
@@ -39,7 +40,7 @@ impl OutputFolder {
             path: dir.to_path_buf(),
             cause,
         })?;
-        check_folder_writable(dir)?;
+        check_folder_writable(dir, first)?;
         Ok(folder)
     }
 

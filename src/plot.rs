@@ -27,20 +27,34 @@ pub struct Plot {
 }
 
 /// Writes each of `plots` into `dir`, each through a temporary file
-/// renamed into place, so that no half-written plot is left behind.
-/// Returns the files written.
+/// renamed into place (only over a regular file), so that no half-written
+/// plot is left behind; a plot with a point that is not finite is refused,
+/// naming the file, the curve and the point. Returns the files written.
 pub fn write_plots(dir: &Path, plots: &[Plot]) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     for plot in plots {
         let path = dir.join(&plot.file);
-        let tmp = dir.join(format!(".{}.tmp", plot.file));
-        let done = std::fs::write(&tmp, plot.figure.to_svg())
-            .and_then(|()| std::fs::rename(&tmp, &path))
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()));
-        if done.is_err() {
-            let _ = std::fs::remove_file(&tmp);
+        if let Some((curve, k, p)) = plot.figure.panels.iter().find_map(|panel| {
+            panel.curves.iter().find_map(|c| {
+                let k = c
+                    .points
+                    .iter()
+                    .position(|(x, y)| !(x.is_finite() && y.is_finite()))?;
+                Some((&c.name, k, c.points[k]))
+            })
+        }) {
+            return Err(format!(
+                "{}: refusing to draw point {} ({:e}, {:e}) of curve '{curve}': not finite",
+                path.display(),
+                k + 1,
+                p.0,
+                p.1
+            ));
         }
-        done?;
+        crate::export::write_atomically(&path, |out| {
+            out.write_all(plot.figure.to_svg().as_bytes())
+        })
+        .map_err(|e| e.to_string())?;
         written.push(path);
     }
     Ok(written)
@@ -49,6 +63,15 @@ pub fn write_plots(dir: &Path, plots: &[Plot]) -> Result<Vec<PathBuf>, String> {
 /// The plots of a study in `dir` (see [`study_plots`]).
 pub fn plot_study(dir: &Path, result: &StudyResult) -> Result<Vec<PathBuf>, String> {
     write_plots(dir, &study_plots(result)?)
+}
+
+/// The name of the first plot of a study at excitation frequencies
+/// `omegas` (rad/s), which its output folder must take.
+pub fn first_study_plot(omegas: &[f64]) -> String {
+    omegas.first().map_or_else(
+        || "convergence.svg".to_string(),
+        |o| format!("convergence_omega{}.svg", fmt_omega(*o)),
+    )
 }
 
 /// The plots of a study: per excitation frequency a convergence plot
@@ -343,6 +366,39 @@ fn quantity(name: &str) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plot_with_a_point_that_is_not_finite_is_not_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let plot = |y: f64| Plot {
+            file: "p.svg".into(),
+            figure: Figure {
+                title: "t".into(),
+                panels: vec![Panel {
+                    title: "p".into(),
+                    x: Axis::new("t (s)", Scale::Linear),
+                    y: Axis::new("F (N)", Scale::Linear),
+                    curves: vec![Curve {
+                        name: "spring".into(),
+                        points: vec![(0.0, 1.0), (1.0, y)],
+                        style: Style::nth(0),
+                        markers: false,
+                    }],
+                    legend: false,
+                }],
+            },
+        };
+        let e = write_plots(dir.path(), &[plot(f64::INFINITY)]).unwrap_err();
+        assert!(
+            e.ends_with("p.svg: refusing to draw point 2 (1e0, inf) of curve 'spring': not finite"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        let written = write_plots(dir.path(), &[plot(2.0)]).unwrap();
+        assert!(std::fs::read_to_string(&written[0])
+            .unwrap()
+            .starts_with("<svg"));
+    }
 
     #[test]
     fn units_are_split_off_names() {

@@ -425,29 +425,6 @@ pub fn coupled_modes(
     Ok(damped_modes(&file.system(body))?)
 }
 
-/// Writes columns as CSV (atomically): the `x` column titled `x_name`
-/// (`time (s)`, `f (Hz)`), then one column per history.
-pub fn write_csv(
-    path: &std::path::Path,
-    x_name: &str,
-    times: &[f64],
-    columns: &[(String, Vec<f64>)],
-) -> Result<(), crate::export::ExportError> {
-    crate::export::write_atomically(path, |out| {
-        let header: Vec<String> = std::iter::once(x_name.to_string())
-            .chain(columns.iter().map(|(n, _)| format!("\"{n}\"")))
-            .collect();
-        writeln!(out, "{}", header.join(","))?;
-        for (k, t) in times.iter().enumerate() {
-            let row: Vec<String> = std::iter::once(format!("{t:.9e}"))
-                .chain(columns.iter().map(|(_, v)| format!("{:.9e}", v[k])))
-                .collect();
-            writeln!(out, "{}", row.join(","))?;
-        }
-        Ok(())
-    })
-}
-
 /// Von Mises histories at solid nodes: for a reduced body from the modal
 /// stress matrices (`sigma = T_sigma q`, eq. 25 for solids), for the full
 /// model from the displacements.

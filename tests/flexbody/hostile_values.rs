@@ -41,7 +41,6 @@ fn a_rigid_body_inertia_must_be_positive_semi_definite_and_finite() {
             "inertia = [10.0, 4000.0, 10.0, 300.0, 0.0, 0.0]",
             "products of inertia",
         ),
-        ("inertia = [0.0, nan, 0.0, 0.0, 0.0, 0.0]", "finite"),
     ] {
         let model = write(dir.path(), "v.toml", &text, from, to);
         fails_with(
@@ -58,6 +57,22 @@ fn a_rigid_body_inertia_must_be_positive_semi_definite_and_finite() {
             ],
         );
     }
+    // NaN is refused where it is written, as every number of the file.
+    let model = write(
+        dir.path(),
+        "v.toml",
+        &text,
+        from,
+        "inertia = [0.0, nan, 0.0, 0.0, 0.0, 0.0]",
+    );
+    let out = dir.path().join("out");
+    fails_with(
+        &["simulate", &model, "--out", out.to_str().unwrap()],
+        &[&format!(
+            "v.toml:{}: NaN for `inertia[1]` in [[rigid_body]] 'car_body' is not a finite number",
+            line + 3
+        )],
+    );
     assert!(!dir.path().join("out").exists());
 }
 
@@ -71,17 +86,17 @@ fn a_point_mass_inertia_must_be_positive_semi_definite_and_finite() {
     for (inertia, rule) in [
         ("[1.0, 1.0, -1.0, 0.0, 0.0, 0.0]", "moments not negative"),
         ("[1.0, 1.0, 1.0, 0.0, 0.0, 5.0]", "products of inertia"),
-        ("[1.0, inf, 1.0, 0.0, 0.0, 0.0]", "finite"),
+        (
+            "[1.0, inf, 1.0, 0.0, 0.0, 0.0]",
+            "inf for `inertia[1]` in [[element]] id 9001",
+        ),
     ] {
         let mass = format!(
             "[[element]]\ntype = \"point-mass\"\nid = 9001\nnode = 1\nmass = 2.0\n\
              inertia = {inertia}\n\n{anchor}"
         );
         let model = write(dir.path(), "m.toml", &text, anchor, &mass);
-        fails_with(
-            &["info", &model],
-            &["m.toml:", "inertia of point mass 9001", rule],
-        );
+        fails_with(&["info", &model], &["m.toml:", rule]);
     }
 }
 
@@ -129,4 +144,187 @@ fn a_huge_line_is_not_echoed_whole() {
         "{}",
         &err[..200]
     );
+}
+
+#[test]
+fn a_number_no_model_holds_is_refused_where_it_is_read() {
+    // Finite but absurd: a 1e300 m track amplitude gave NaN in every
+    // section-force column of frf.csv with exit code 0.
+    let dir = tempfile::tempdir().unwrap();
+    let text = vehicle();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let amplitude = write(
+        dir.path(),
+        "a.toml",
+        &text,
+        "amplitude = 0.01",
+        "amplitude = 1e300",
+    );
+    fails_with(
+        &["frf", &amplitude, "--out", out],
+        &["a.toml:40: 1e300 for `amplitude` in [track] is beyond 1e100 in magnitude"],
+    );
+    assert!(!dir.path().join("out").exists(), "no output folder is left");
+    // NaN and inf anywhere, read into whatever: a force table, a
+    // connection's track_x (once failing late as a singular dynamic
+    // stiffness, with no location).
+    let table = text.clone()
+        + "\n[[force]]\nname = \"kick\"\nnode = 11\ndirection = [0.0, 0.0, 1.0]\n\
+           table = [[0.0, 0.0], [0.1, nan]]\n";
+    let table = write(dir.path(), "f.toml", &table, "", "");
+    fails_with(
+        &["simulate", &table, "--out", out],
+        &["f.toml:112: NaN for `table[1][1]` in [[force]] 'kick' is not a finite number"],
+    );
+    let track_x = write(
+        dir.path(),
+        "x.toml",
+        &text,
+        "name = \"primary_front\"",
+        "name = \"primary_front\"\ntrack_x = -inf",
+    );
+    fails_with(
+        &["frf", &track_x, "--out", out],
+        &["x.toml:53: -inf for `track_x` in [[connection]] 'primary_front' is not a finite number"],
+    );
+}
+
+#[test]
+fn a_model_without_mass_is_refused_as_such_before_any_solve() {
+    // Density 0 failed as "the stiffness matrix of the supported body is
+    // singular at node 2 ry", a wrong cause.
+    let dir = tempfile::tempdir().unwrap();
+    let model = write(
+        dir.path(),
+        "d.toml",
+        &vehicle(),
+        "density = 6800.0",
+        "density = 0.0",
+    );
+    let out = dir.path().join("out");
+    fails_with(
+        &["frf", &model, "--out", out.to_str().unwrap()],
+        &["the mass matrix is zero"],
+    );
+}
+
+/// A body of the side beam written in `format` to `dir/name`, and its text
+/// (none for a folder).
+fn side_beam_body(dir: &std::path::Path, name: &str, format: &str) -> PathBuf {
+    let model = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam.toml");
+    let out = dir.join(name);
+    super::support::run_ok(&super::support::reduce_args(
+        &model,
+        "craig-bampton",
+        "4",
+        &out,
+        &["--format", format],
+    ));
+    out
+}
+
+/// `path`'s text with the line starting (after its indentation) with
+/// `start` replaced by `with`, written to `to`.
+fn edit_line(path: &std::path::Path, start: &str, with: &str, to: &std::path::Path) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut done = false;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if !done && l.trim_start().starts_with(start) {
+                done = true;
+                with.to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    assert!(done, "no line starts with {start}");
+    std::fs::write(to, lines.join("\n") + "\n").unwrap();
+}
+
+#[test]
+fn a_body_file_that_describes_no_body_is_refused_before_use() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let inspect = |p: &std::path::Path, needles: &[&str]| {
+        fails_with(&["inspect", p.to_str().unwrap()], needles);
+    };
+    // JSON: a non-symmetric mass (accepted, with a wrong mass in the
+    // summary), a basis entry of 1e308 (inf and NaN in histories.csv).
+    let json = side_beam_body(d, "b.json", "json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    doc["mass"][0][1] = serde_json::json!(doc["mass"][0][1].as_f64().unwrap() + 5.0);
+    let nonsymmetric = d.join("nonsymmetric.json");
+    std::fs::write(&nonsymmetric, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+    inspect(
+        &nonsymmetric,
+        &["block 'mass': the matrix is not symmetric: entry (2, 1)"],
+    );
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    doc["basis"][3][2] = serde_json::json!(1e308);
+    let huge = d.join("huge.json");
+    std::fs::write(&huge, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+    inspect(&huge, &["block 'basis': entry (4, 3) is 1e308"]);
+    let text = vehicle().replace("modes = 1\n", "");
+    let model = write(
+        d,
+        "v.toml",
+        &text,
+        "method = \"free-residual\"",
+        &format!("body = {:?} #", huge.to_str().unwrap()),
+    );
+    let out = d.join("out");
+    fails_with(
+        &["simulate", &model, "--out", out.to_str().unwrap()],
+        &["huge.json", "entry (4, 3) is 1e308"],
+    );
+    assert!(!out.exists());
+    // SID: mass NaN (a NaN mass and centre of mass in the summary), a
+    // duplicated entry hiding a missing one, a non-symmetric modal mass.
+    let sid = side_beam_body(d, "b.sid", "sid");
+    let nan = d.join("nan.sid");
+    edit_line(&sid, "mass =", "  mass = NaN", &nan);
+    inspect(
+        &nan,
+        &["nan.sid: line 6, block 'refmod': mass: 'NaN' is not a finite number"],
+    );
+    let text = std::fs::read_to_string(&sid).unwrap();
+    let me = text.find("\nMe\n").expect("an Me block");
+    let (head, tail) = text.split_at(me);
+    let first = tail
+        .lines()
+        .find(|l| l.trim_start().starts_with("m0(1, 1)"))
+        .unwrap();
+    let second = tail
+        .lines()
+        .find(|l| l.trim_start().starts_with("m0(1, 2)"))
+        .unwrap();
+    let duplicated = d.join("duplicated.sid");
+    std::fs::write(
+        &duplicated,
+        head.to_string() + &tail.replacen(second, first, 1),
+    )
+    .unwrap();
+    inspect(
+        &duplicated,
+        &["block 'Me': m0(1, 1) is given twice (first at line"],
+    );
+    let asymmetric = d.join("asymmetric.sid");
+    std::fs::write(
+        &asymmetric,
+        head.to_string() + &tail.replacen(second, "    m0(1, 2) = 7.5e0", 1),
+    )
+    .unwrap();
+    inspect(&asymmetric, &["block 'Me': m0 is not symmetric"]);
+    // Matrix Market folder: a NaN mass entry (a NaN mass in the summary).
+    let folder = side_beam_body(d, "body", "mtx");
+    let mass = folder.join("mass.mtx");
+    let text = std::fs::read_to_string(&mass).unwrap();
+    let first_value = text.lines().nth(3).unwrap().to_string();
+    std::fs::write(&mass, text.replacen(&first_value, "NaN", 1)).unwrap();
+    inspect(&folder, &["mass.mtx: line 4: 'NaN' is not a finite number"]);
 }

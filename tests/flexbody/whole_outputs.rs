@@ -1,7 +1,9 @@
 //! Outputs are written whole or not at all, and only as regular files: a
 //! body folder whose write fails (a full disk) keeps its previous body
 //! whole instead of mixing two, and `--out` never turns a device, a FIFO
-//! or a symbolic link into a file.
+//! or a symbolic link into a file (`--follow-symlinks` writes through a
+//! link). An output folder that cannot take the command's first file is
+//! refused before the computation, naming that file.
 
 use super::support::{fails_with, flexbody, hex_beam_deck, reduce_args, run_ok, stderr};
 use std::collections::BTreeMap;
@@ -95,10 +97,53 @@ fn out_replaces_only_regular_files() {
         assert!(!kind.is_file(), "{} became a file", path.display());
     }
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+    // With --follow-symlinks, the file a link leads to is written and the
+    // link kept; a loop of links is an error naming the link.
+    let mut args = reduce_args(&deck, "free", "6", &link, &[]);
+    args.insert(0, "--follow-symlinks".into());
+    run_ok(&args);
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&target)
+        .unwrap()
+        .contains("flexbody-reduced-body"));
+    std::fs::write(&target, "keep").unwrap();
+    let (a, b) = (dir.path().join("a.json"), dir.path().join("b.json"));
+    std::os::unix::fs::symlink(&b, &a).unwrap();
+    std::os::unix::fs::symlink(&a, &b).unwrap();
+    let mut args = reduce_args(&deck, "free", "6", &a, &[]);
+    args.insert(0, "--follow-symlinks".into());
+    fails_with(
+        &args,
+        &["a.json: the symbolic link leads to", "cannot be resolved"],
+    );
     // A regular file is replaced, as before.
     let o = flexbody(&reduce_args(&deck, "free", "6", &target, &[]));
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(std::fs::read_to_string(&target)
         .unwrap()
         .contains("flexbody-reduced-body"));
+}
+
+#[test]
+fn an_output_folder_that_cannot_take_its_first_file_names_it() {
+    // A folder where `histories.csv` (or `frf.csv`) should go: the run
+    // stops before the computation and names that file, not another.
+    let dir = tempfile::tempdir().unwrap();
+    let vehicle = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/vehicle.toml");
+    for (command, first) in [("simulate", "histories.csv"), ("frf", "frf.csv")] {
+        let out = dir.path().join(command);
+        std::fs::create_dir_all(out.join(first)).unwrap();
+        fails_with(
+            &[
+                command,
+                vehicle.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &[&format!("{first}: cannot write: it is a folder")],
+        );
+    }
 }

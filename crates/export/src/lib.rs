@@ -9,6 +9,8 @@
 //!   `flexbody_reduce::ffrf` and the recovery rows;
 //! - a folder of Matrix Market files with a JSON index, [`mtx`], for large
 //!   bodies;
+//! - columns of numbers (time histories, transfer functions) as CSV,
+//!   [`columns`], refusing any value that is not finite;
 //! - a VTK unstructured grid with the mode shapes and modal stresses for
 //!   ParaView, [`vtk`], from the modes and stresses computed for it, as
 //!   zlib-compressed binary or ASCII XML ([`vtu`]).
@@ -23,6 +25,7 @@
 //! only when every file is written, so it never mixes two bodies. Only
 //! regular files are replaced, never a device, a FIFO or a symbolic link.
 
+pub mod columns;
 mod float_text;
 pub mod format;
 mod json_layout;
@@ -107,11 +110,12 @@ pub fn check_writable(path: &Path) -> Result<(), ExportError> {
 }
 
 /// Checks, before a long computation, that a folder of files can be
-/// written at `dir`: an existing folder takes a new file, or a new one can
-/// be made beside its siblings.
-pub fn check_folder_writable(dir: &Path) -> Result<(), ExportError> {
+/// written at `dir`: an existing folder takes `first` (the first file to be
+/// written, which an error names), or a new folder can be made beside its
+/// siblings.
+pub fn check_folder_writable(dir: &Path, first: &str) -> Result<(), ExportError> {
     if dir.is_dir() {
-        return check_writable(&dir.join("index.json"));
+        return check_writable(&dir.join(first));
     }
     if dir.exists() {
         return Err(ExportError::Write {
@@ -131,7 +135,7 @@ fn check_replaceable(path: &Path) -> Result<(), ExportError> {
             path: path.to_path_buf(),
             cause: std::io::Error::other(
                 "it is not a regular file (a symbolic link, device, FIFO or socket); \
-                 flexbody only writes regular files",
+                 flexbody only writes regular files (--follow-symlinks writes through a link)",
             ),
         }),
         _ => Ok(()),
@@ -359,7 +363,7 @@ impl BodyFile {
                 format!("interface DOF {d} is not among the body's DOFs"),
             ));
         }
-        Ok(ReducedBody {
+        let body = ReducedBody {
             method: self.method,
             dof_map,
             basis,
@@ -368,7 +372,9 @@ impl BodyFile {
             damping,
             modes: self.modes,
             interface: self.interface,
-        })
+        };
+        body.check().map_err(|d| (d.block, d.message))?;
+        Ok(body)
     }
 }
 

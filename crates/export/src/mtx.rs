@@ -232,7 +232,9 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
             last = n;
             let v: f64 = l
                 .parse()
-                .map_err(|_| (n, format!("'{l}' is not a number")))?;
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .ok_or_else(|| (n, format!("'{l}' is not a finite number")))?;
             if count >= want {
                 return Err((
                     n,
@@ -278,7 +280,9 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
             };
             let v: f64 = v
                 .parse()
-                .map_err(|_| (n, format!("'{v}' is not a number")))?;
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .ok_or_else(|| (n, format!("'{v}' is not a finite number")))?;
             m[(i - 1, j - 1)] += v;
             if symmetric && i != j {
                 m[(j - 1, i - 1)] += v;
@@ -376,7 +380,7 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
             "block 'interface': DOF {d} is not among the body's DOFs"
         )));
     }
-    Ok(ReducedBody {
+    let body = ReducedBody {
         method: index.method,
         dof_map,
         basis,
@@ -385,7 +389,18 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
         damping,
         modes: index.modes,
         interface: index.interface,
-    })
+    };
+    body.check().map_err(|d| {
+        // The matrix's own file, or the index for the mode descriptions.
+        match index.files.get(d.block) {
+            Some(file) => ExportError::Format {
+                path: dir.join(file),
+                message: format!("{}: {}", d.block, d.message),
+            },
+            None => bad(format!("block '{}': {}", d.block, d.message)),
+        }
+    })?;
+    Ok(body)
 }
 
 #[cfg(test)]

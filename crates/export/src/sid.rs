@@ -448,6 +448,18 @@ impl<'a> Lines<'a> {
     }
 }
 
+/// A value of an entry: a finite number at most
+/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude.
+fn number(v: &str) -> Result<f64, String> {
+    let largest = flexbody_linalg::dense_check::LARGEST;
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() && x.abs() <= largest => Ok(x),
+        Ok(x) if x.is_finite() => Err(format!("{x:e} is beyond {largest:e} in magnitude")),
+        Ok(_) => Err(format!("'{v}' is not a finite number")),
+        Err(_) => Err(format!("'{v}' is not a number")),
+    }
+}
+
 fn key_value(l: &str) -> Option<(&str, &str)> {
     let (k, v) = l.split_once('=')?;
     Some((k.trim(), v.trim()))
@@ -491,6 +503,9 @@ fn parse_taylor(
         let (k, v) =
             key_value(l).ok_or_else(|| err(n, format!("expected 'key = value', found '{l}'")))?;
         if let Some(slot) = KEYS.iter().position(|key| k.eq_ignore_ascii_case(key)) {
+            if header[slot].is_some() {
+                return Err(err(n, format!("'{}' is given twice", KEYS[slot])));
+            }
             header[slot] = Some(
                 v.parse()
                     .map_err(|_| err(n, format!("{k} = '{v}' is not a count")))?,
@@ -498,9 +513,7 @@ fn parse_taylor(
             continue;
         }
         let (kind, idx) = indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'")))?;
-        let value: f64 = v
-            .parse()
-            .map_err(|_| err(n, format!("'{v}' is not a number")))?;
+        let value = number(v).map_err(|m| err(n, m))?;
         match (kind, idx.as_slice()) {
             ("m0", [i, j]) => m0.push((n, *i, *j, value)),
             ("m1", [i, j, k]) => m1.push((n, *i, *j, *k, value)),
@@ -550,9 +563,18 @@ fn parse_taylor(
         },
         "m1",
     )?;
+    // Every entry once: the counts matched, so a repeated entry hides a
+    // missing one.
+    let mut seen = std::collections::HashMap::new();
     for (n, i, j, v) in m0 {
         if i == 0 || j == 0 || i > nrow || j > ncol {
             return Err(err(n, format!("m0({i}, {j}) is outside {nrow} x {ncol}")));
+        }
+        if let Some(first) = seen.insert((i, j, 0), n) {
+            return Err(err(
+                n,
+                format!("m0({i}, {j}) is given twice (first at line {first})"),
+            ));
         }
         a0[(i - 1, j - 1)] = v;
     }
@@ -561,6 +583,12 @@ fn parse_taylor(
             return Err(err(
                 n,
                 format!("m1({i}, {j}, {k}) is outside {nrow} x {ncol} x {nq}"),
+            ));
+        }
+        if let Some(first) = seen.insert((i, j, k), n) {
+            return Err(err(
+                n,
+                format!("m1({i}, {j}, {k}) is given twice (first at line {first})"),
             ));
         }
         a1[k - 1][(i - 1, j - 1)] = v;
@@ -600,6 +628,28 @@ fn check_shape(
     Ok(())
 }
 
+/// The inertia tensor `J` and the modal mass, stiffness and damping
+/// `Me`, `Ke`, `De` are symmetric (each order); `J`, `Me` and `De` are
+/// positive semi-definite (their constant part), and `Ke` with `Me` has
+/// no negative eigenvalue (checked by the caller): a file where they are
+/// not describes no body.
+fn check_symmetric_semi_definite(t: &Taylor, name: &str, line: usize) -> Result<(), ParseError> {
+    use flexbody_linalg::dense_check::{semi_definite, symmetric};
+    let err = |message: String| ParseError {
+        line,
+        block: name.to_string(),
+        message,
+    };
+    symmetric(t.m0.as_ref()).map_err(|e| err(format!("m0 {e}")))?;
+    for (k, m1) in t.m1.iter().enumerate() {
+        symmetric(m1.as_ref()).map_err(|e| err(format!("m1(:, :, {}) {e}", k + 1)))?;
+    }
+    if name == "Ke" {
+        return Ok(());
+    }
+    semi_definite(t.m0.as_ref()).map_err(|e| err(format!("m0 {e}")))
+}
+
 /// Parses SID text (see the module docs).
 pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
     let mut lines = Lines::new(text);
@@ -622,11 +672,20 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
         let (k, v) =
             key_value(l).ok_or_else(|| bad(n, format!("expected 'key = value', found '{l}'")))?;
         if k.eq_ignore_ascii_case("mass") {
-            mass = Some(
-                v.parse::<f64>()
-                    .map_err(|_| bad(n, format!("mass '{v}' is not a number")))?,
-            );
+            let m = number(v).map_err(|m| bad(n, format!("mass: {m}")))?;
+            if m <= 0.0 || mass.is_some() {
+                let why = if m <= 0.0 {
+                    "is not positive"
+                } else {
+                    "is given twice"
+                };
+                return Err(bad(n, format!("mass {v} {why}")));
+            }
+            mass = Some(m);
         } else if k.eq_ignore_ascii_case("nelastq") {
+            if nelastq.is_some() {
+                return Err(bad(n, "nelastq is given twice".into()));
+            }
             nelastq = Some(
                 v.parse::<usize>()
                     .map_err(|_| bad(n, format!("nelastq '{v}' is not a count")))?,
@@ -648,13 +707,16 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             format!("{} ielastq names, nelastq = {nq}", names.len()),
         ));
     }
-    let mut ielastq = vec![String::new(); nq];
+    let mut ielastq = vec![None; nq];
     for (n, i, name) in names {
         if i == 0 || i > nq {
             return Err(bad(n, format!("ielastq({i}) is outside 1..{nq}")));
         }
-        ielastq[i - 1] = name;
+        if ielastq[i - 1].replace(name).is_some() {
+            return Err(bad(n, format!("ielastq({i}) is given twice")));
+        }
     }
+    let ielastq = ielastq.into_iter().map(Option::unwrap_or_default).collect();
     let frame = lines.expect("new frame", "modal", modal)?;
     let mut nodes = Vec::new();
     loop {
@@ -691,6 +753,13 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             parts.push(t);
         }
         lines.expect("end node", "node", n)?;
+        if nodes.iter().any(|node: &SidNode| node.id == id) {
+            return Err(ParseError {
+                line: rn,
+                block: "node".into(),
+                message: format!("node {id} is given twice"),
+            });
+        }
         let mut parts = parts.into_iter();
         let mut take = || parts.next().expect("four parts");
         nodes.push(SidNode {
@@ -714,7 +783,7 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
         ("Ke", nq, nq),
         ("De", nq, nq),
     ];
-    let mut q = Vec::with_capacity(11);
+    let mut q: Vec<Taylor> = Vec::with_capacity(11);
     for (name, rows, cols) in expected {
         let opened = lines.expect(name, "modal", modal)?;
         let t = parse_taylor(&mut lines, name, opened, nq)?;
@@ -722,6 +791,19 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             check_shape(&t, name, t.nrow, cols, opened)?;
         } else {
             check_shape(&t, name, rows, cols, opened)?;
+        }
+        if ["J", "Me", "Ke", "De"].contains(&name) {
+            check_symmetric_semi_definite(&t, name, opened)?;
+        }
+        if name == "Ke" {
+            // q[4] is Me: the elastic modes are stable.
+            flexbody_linalg::dense_check::stable_pencil(t.m0.as_ref(), q[4].m0.as_ref()).map_err(
+                |e| ParseError {
+                    line: opened,
+                    block: name.into(),
+                    message: format!("m0 {e}"),
+                },
+            )?;
         }
         q.push(t);
     }

@@ -18,6 +18,7 @@ mod toml_source;
 
 pub use deck::{parse_deck, read_deck, Deck, DeckOptions};
 pub use model_toml::{parse_model_toml, ModelToml};
+pub use toml_keys::LARGEST_NUMBER;
 pub use toml_source::TomlSource;
 
 use std::path::PathBuf;

@@ -65,6 +65,77 @@ pub(crate) fn refuse_unknown_top_level(
     }
 }
 
+/// The largest magnitude a number in a TOML file may have: as in every
+/// file flexbody reads, [`flexbody_linalg::dense_check::LARGEST`].
+pub const LARGEST_NUMBER: f64 = flexbody_linalg::dense_check::LARGEST;
+
+/// Refuses the first number of `src` (in the order of the text) that is
+/// not finite (`nan`, `inf`) or larger in magnitude than
+/// [`LARGEST_NUMBER`], naming its line, key and table.
+pub(crate) fn refuse_out_of_range(src: &TomlSource<'_>) -> Result<(), InputError> {
+    let Ok(tree) = toml::from_str::<Spanned<Node>>(src.text) else {
+        return Ok(());
+    };
+    let mut path = Vec::new();
+    match out_of_range(&tree, &mut path) {
+        None => Ok(()),
+        Some((value, hit)) => {
+            let problem = if value.is_finite() {
+                format!(
+                    "is beyond {LARGEST_NUMBER:e} in magnitude (no SI quantity of a model is \
+                     that large, and its products overflow)"
+                )
+            } else {
+                "is not a finite number".to_string()
+            };
+            Err(src.error(
+                Some(hit.offset),
+                format!("{value:e}{} {problem}", hit.place(Kind::Value)),
+            ))
+        }
+    }
+}
+
+/// The first float below `node` (in the text's order) that is not finite
+/// or too large, and where it is.
+fn out_of_range<'a>(
+    node: &'a Spanned<Node>,
+    path: &mut Vec<(Step<'a>, &'a Spanned<Node>)>,
+) -> Option<(f64, Hit<'a>)> {
+    let children: Vec<(Step<'a>, &'a Spanned<Node>)> = match node.get_ref() {
+        Node::Float(v) if v.is_nan() || v.abs() > LARGEST_NUMBER => {
+            let hit = Hit {
+                offset: node.span().start,
+                path: path.clone(),
+            };
+            return Some((*v, hit));
+        }
+        Node::Table(entries) => entries
+            .iter()
+            .map(|(k, v)| (Step::Key(k.get_ref().as_str()), v))
+            .collect(),
+        Node::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (Step::Index(i), v))
+            .collect(),
+        _ => return None,
+    };
+    let mut first: Option<(f64, Hit<'a>)> = None;
+    for (step, child) in children {
+        path.push((step, child));
+        let found = out_of_range(child, path);
+        path.pop();
+        if let Some(found) = found {
+            // Tables keep their keys sorted, not in the text's order.
+            if first.as_ref().is_none_or(|f| found.1.offset < f.1.offset) {
+                first = Some(found);
+            }
+        }
+    }
+    first
+}
+
 /// Whether serde refused a key or a value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Kind {
@@ -134,6 +205,7 @@ enum Node {
     Array(Vec<Spanned<Node>>),
     Text(String),
     Integer(i128),
+    Float(f64),
     Other,
 }
 
@@ -164,8 +236,8 @@ impl<'de> Visitor<'de> for NodeVisitor {
         Ok(Node::Integer(v.into()))
     }
 
-    fn visit_f64<E>(self, _: f64) -> Result<Node, E> {
-        Ok(Node::Other)
+    fn visit_f64<E>(self, v: f64) -> Result<Node, E> {
+        Ok(Node::Float(v))
     }
 
     fn visit_str<E>(self, s: &str) -> Result<Node, E> {
@@ -230,7 +302,7 @@ fn find<'a>(
             .enumerate()
             .map(|(i, v)| (Step::Index(i), v, v.span()))
             .collect(),
-        Node::Text(_) | Node::Integer(_) | Node::Other => return None,
+        Node::Text(_) | Node::Integer(_) | Node::Float(_) | Node::Other => return None,
     };
     for (step, child, key_span) in children {
         let at = match (refused.kind, step, child.get_ref()) {

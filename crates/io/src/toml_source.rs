@@ -20,9 +20,14 @@ impl<'a> TomlSource<'a> {
 
     /// Deserialises the whole text into `T`; a syntax or type error names
     /// its line, an unknown key or value (serde's `deny_unknown_fields`, an
-    /// enum's variants) also its table and the nearest valid spelling.
+    /// enum's variants) also its table and the nearest valid spelling. A
+    /// number that is not finite (`nan`, `inf`) or beyond
+    /// [`LARGEST_NUMBER`](crate::LARGEST_NUMBER) in magnitude is
+    /// refused with its line and key, whatever it is read into.
     pub fn parse<T: DeserializeOwned>(&self) -> Result<T, InputError> {
-        toml::from_str(self.text).map_err(|e| crate::toml_keys::error(self, &e))
+        let value = toml::from_str(self.text).map_err(|e| crate::toml_keys::error(self, &e))?;
+        crate::toml_keys::refuse_out_of_range(self)?;
+        Ok(value)
     }
 
     /// Refuses the first top-level key not in `known`, naming its line and

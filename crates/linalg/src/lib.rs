@@ -16,6 +16,7 @@
 //! - [`orthonormal`]: M-orthonormalisation of a basis with rank detection;
 //! - [`sparse`]: assembly from triplets, sub-matrices, products.
 
+pub mod dense_check;
 pub mod eigen;
 pub mod lanczos;
 pub mod ldlt;

@@ -11,6 +11,7 @@
 //! coordinates and mass invariants, what a SID file carries) in [`ffrf`].
 
 pub mod body;
+mod consistency;
 pub mod error;
 pub mod ffrf;
 pub mod method;
@@ -18,6 +19,7 @@ pub mod modes;
 mod products;
 
 pub use body::{natural_frequencies_hz, ModeKind, ReducedBody};
+pub use consistency::BodyDefect;
 pub use error::ReduceError;
 pub use method::{
     reduce, reduce_keeping, reduce_reporting, ForceGroup, GroundSpring, Keep, Method, Reduction,

@@ -31,7 +31,7 @@ use flexbody_fem::{Dof, DofKind, FemError, Substructure, Support};
 use flexbody_linalg::eigen::leading_zeros;
 use flexbody_linalg::memory::Budget;
 use flexbody_linalg::progress::{NoProgress, Progress};
-use flexbody_linalg::{sparse, SparseMat};
+use flexbody_linalg::{sparse, LinalgError, SparseMat};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -233,6 +233,11 @@ fn check(sub: &Substructure, spec: &Reduction) -> Result<Checked, ReduceError> {
     let needs_interface = spec.method != Method::Free;
     if needs_interface && boundary.is_empty() {
         return Err(ReduceError::NoInterface(spec.method.name()));
+    }
+    // Every method needs mass (eigenmodes, inertia relief, M_red); without
+    // it the first solve would fail with a misleading cause.
+    if !sub.matrices.mass.val().iter().any(|&v| v != 0.0) {
+        return Err(LinalgError::NoMass.into());
     }
     let rigid = free_body_rigid_modes(sub)?;
     if !spec.force_groups.is_empty() && !spec.method.takes_force_groups() {
