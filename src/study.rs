@@ -30,21 +30,22 @@ pub struct Field {
 }
 
 impl Field {
-    /// `max |self - reference| / max |reference|` (moduli of complex values).
+    /// `max |self - reference| / max |reference|` (moduli of complex
+    /// values); NaN where a value is NaN, never a NaN passed over.
     pub fn relative_error(&self, reference: &Field) -> f64 {
         let scale = reference
             .re
             .iter()
             .zip(&reference.im)
             .map(|(a, b)| a.hypot(*b))
-            .fold(0.0, f64::max);
+            .fold(0.0, max_or_nan);
         let diff = self
             .re
             .iter()
             .zip(&self.im)
             .zip(reference.re.iter().zip(&reference.im))
             .map(|((a, b), (c, d))| (a - c).hypot(b - d))
-            .fold(0.0, f64::max);
+            .fold(0.0, max_or_nan);
         if scale > 0.0 {
             diff / scale
         } else {
@@ -93,7 +94,11 @@ impl BeamResponse {
     /// Relative error of von Mises at the most stressed nodes of the
     /// reference (where it reaches half its peak); `None` without solids.
     pub fn von_mises_error(&self, reference: &BeamResponse) -> Option<f64> {
-        let peak = reference.von_mises.iter().fold(0.0_f64, |m, v| m.max(*v));
+        let peak = reference
+            .von_mises
+            .iter()
+            .copied()
+            .fold(0.0_f64, max_or_nan);
         if reference.von_mises.is_empty() || peak == 0.0 {
             return None;
         }
@@ -103,8 +108,18 @@ impl BeamResponse {
             .zip(&self.von_mises)
             .filter(|(r, _)| **r >= 0.5 * peak)
             .map(|(r, s)| (r - s).abs())
-            .fold(0.0, f64::max);
+            .fold(0.0, max_or_nan);
         Some(err / peak)
+    }
+}
+
+/// The larger of `a` and `b`, NaN if either is (`f64::max` passes over a
+/// NaN, which would make a failed response look exact).
+fn max_or_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
     }
 }
 
@@ -340,6 +355,22 @@ fn run_case(
             err_force: reduced.force_error(reference),
             err_vm: reduced.von_mises_error(reference),
         };
+        let errors = [
+            Some(row.err_w),
+            row.err_m,
+            row.err_q,
+            Some(row.err_force),
+            row.err_vm,
+        ];
+        if errors.into_iter().flatten().any(|e| !e.is_finite()) {
+            return Err(StudyError::Case {
+                method: case.method,
+                modes: case.modes,
+                message: format!(
+                    "the response at Omega = {omega} rad/s is not finite (reduced or reference)"
+                ),
+            });
+        }
         results.push(CaseResult {
             case: case.clone(),
             row,
@@ -455,4 +486,26 @@ pub fn respond(
         von_mises,
         stress_nodes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Field;
+
+    #[test]
+    fn a_nan_in_a_response_makes_its_error_nan_not_zero() {
+        let field = |re: Vec<f64>| Field {
+            x: vec![0.0; re.len()],
+            im: vec![0.0; re.len()],
+            re,
+        };
+        let reference = field(vec![1.0, 2.0, 4.0]);
+        assert_eq!(field(vec![1.0, 2.0, 3.0]).relative_error(&reference), 0.25);
+        assert!(field(vec![1.0, f64::NAN, 4.0])
+            .relative_error(&reference)
+            .is_nan());
+        assert!(reference
+            .relative_error(&field(vec![f64::NAN, 2.0, 4.0]))
+            .is_nan());
+    }
 }
