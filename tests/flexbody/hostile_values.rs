@@ -328,3 +328,41 @@ fn a_body_file_that_describes_no_body_is_refused_before_use() {
     std::fs::write(&mass, text.replacen(&first_value, "NaN", 1)).unwrap();
     inspect(&folder, &["mass.mtx: line 4: 'NaN' is not a finite number"]);
 }
+
+#[test]
+fn deck_and_matrix_numbers_beyond_1e100_are_refused_with_their_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("far.inp");
+    std::fs::write(&deck, "*NODE\n1, 0, 0, 0\n2, 1e200, 0, 0\n").unwrap();
+    fails_with(
+        &["info", deck.to_str().unwrap()],
+        &["far.inp:3: node 2: coordinate 1: expected a finite number (at most 1e100 in magnitude), got '1e200'"],
+    );
+    let k = dir.path().join("k.mtx");
+    std::fs::write(
+        &k,
+        "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1e150\n2 2 1.0\n",
+    )
+    .unwrap();
+    let m = dir.path().join("m.mtx");
+    std::fs::write(
+        &m,
+        "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1.0\n2 2 1.0\n",
+    )
+    .unwrap();
+    let dofs = dir.path().join("dofs.txt");
+    std::fs::write(&dofs, "1 ux
+2 ux
+").unwrap();
+    fails_with(
+        &[
+            "modes",
+            k.to_str().unwrap(),
+            "--mass",
+            m.to_str().unwrap(),
+            "--dofs",
+            dofs.to_str().unwrap(),
+        ],
+        &["k.mtx:3", "1e150 is beyond 1e100 in magnitude"],
+    );
+}

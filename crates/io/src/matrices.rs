@@ -284,6 +284,12 @@ fn parse_entry(
     if !value.is_finite() {
         return Err(bad(format!("value {value} is not finite")));
     }
+    let largest = flexbody_linalg::dense_check::LARGEST;
+    if value.abs() > largest {
+        return Err(bad(format!(
+            "value {value:e} is beyond {largest:e} in magnitude"
+        )));
+    }
     Ok(Entry {
         row,
         col,

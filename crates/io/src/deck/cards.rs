@@ -4,6 +4,7 @@
 //! folder), and every line keeps its file and line number for errors.
 
 use crate::InputError;
+use flexbody_linalg::dense_check::LARGEST;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -95,7 +96,9 @@ impl DataLine {
         parse_float(field).ok_or_else(|| {
             files.error(
                 self.loc,
-                format!("{what}: expected a finite number, got '{field}'"),
+                format!(
+                    "{what}: expected a finite number (at most 1e100 in magnitude), got '{field}'"
+                ),
             )
         })
     }
@@ -128,10 +131,11 @@ impl DataLine {
     }
 }
 
-/// A finite number; Fortran exponents (`1.0D3`) are accepted.
+/// A finite number at most [`LARGEST`] in magnitude; Fortran exponents
+/// (`1.0D3`) are accepted.
 pub(super) fn parse_float(s: &str) -> Option<f64> {
     let v: f64 = s.replace(['d', 'D'], "e").parse().ok()?;
-    v.is_finite().then_some(v)
+    (v.abs() <= LARGEST).then_some(v)
 }
 
 /// A positive integer.
