@@ -351,9 +351,13 @@ fn deck_and_matrix_numbers_beyond_1e100_are_refused_with_their_line() {
     )
     .unwrap();
     let dofs = dir.path().join("dofs.txt");
-    std::fs::write(&dofs, "1 ux
+    std::fs::write(
+        &dofs,
+        "1 ux
 2 ux
-").unwrap();
+",
+    )
+    .unwrap();
     fails_with(
         &[
             "modes",

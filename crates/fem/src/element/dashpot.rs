@@ -9,10 +9,13 @@
 //! model does not have does not move, so a dashpot end there is held, as
 //! on a fixed DOF.
 
+use super::discrete::{
+    axial_matrix, line_direction, scalar_dofs, scalar_element_dofs, scalar_matrix, scalar_nodes,
+};
 use super::registry::wrong_section;
-use super::{axis, node_dofs, Element, ElementBehaviour, ElementMatrices, ElementType};
+use super::{node_dofs, Element, ElementBehaviour, ElementMatrices, ElementType};
 use super::{SectionKind, SectionValues, VtkCell, TRANSLATIONS};
-use crate::dof::{Dof, DofKind};
+use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::FemError;
 use faer::Mat;
@@ -62,18 +65,7 @@ fn scalar_dashpot(
     let SectionValues::Dashpot { dofs, coefficient } = section else {
         return Err(wrong_section(name, id, section));
     };
-    let dof =
-        |node: Option<&NodeId>, kind: Option<DofKind>| node.zip(kind).map(|(n, k)| Dof::new(*n, k));
-    let missing = |reason: &str| FemError::InvalidElement {
-        element: id,
-        reason: reason.into(),
-    };
-    let first = dof(nodes.first(), dofs[0]).ok_or_else(|| missing("dashpot without a DOF"))?;
-    let second = if between {
-        Some(dof(nodes.get(1), dofs[1]).ok_or_else(|| missing("dashpot without a second DOF"))?)
-    } else {
-        None
-    };
+    let (first, second) = scalar_dofs("dashpot", id, nodes, dofs, between)?;
     Ok(Dashpot {
         id,
         first,
@@ -107,17 +99,11 @@ impl ElementBehaviour for Dashpot {
     }
 
     fn nodes(&self) -> Vec<NodeId> {
-        let mut n = vec![self.first.node];
-        if let Some(s) = self.second {
-            n.push(s.node);
-        }
-        n
+        scalar_nodes(self.first, self.second)
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        let mut d = vec![self.first];
-        d.extend(self.second);
-        d
+        scalar_element_dofs(self.first, self.second)
     }
 
     fn creates_dofs(&self) -> bool {
@@ -134,14 +120,13 @@ impl ElementBehaviour for Dashpot {
 
     fn matrices(&self, _model: &Model) -> Result<ElementMatrices, FemError> {
         check_coefficient(self.id, self.coefficient)?;
-        let c = self.coefficient;
         let dofs = self.dofs();
         let n = dofs.len();
         Ok(ElementMatrices {
             dofs,
             stiffness: Mat::zeros(n, n),
             mass: Mat::zeros(n, n),
-            damping: Some(Mat::from_fn(n, n, |i, j| if i == j { c } else { -c })),
+            damping: Some(scalar_matrix(self.coefficient, n)),
         })
     }
 
@@ -163,17 +148,6 @@ pub struct AxialDashpot {
     pub nodes: [NodeId; 2],
     /// Coefficient c (N s/m).
     pub coefficient: f64,
-}
-
-impl AxialDashpot {
-    /// The unit direction; an error for coincident nodes.
-    fn axis(&self, model: &Model) -> Result<[f64; 3], FemError> {
-        let (l, e) = axis(model.coords(self.nodes[0]), model.coords(self.nodes[1]));
-        if l.is_nan() || l <= 0.0 {
-            return Err(FemError::ZeroLength { element: self.id });
-        }
-        Ok(e)
-    }
 }
 
 impl ElementBehaviour for AxialDashpot {
@@ -199,22 +173,17 @@ impl ElementBehaviour for AxialDashpot {
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {
         check_coefficient(self.id, self.coefficient)?;
-        self.axis(model).map(|_| ())
+        line_direction(model, self.id, self.nodes).map(|_| ())
     }
 
     fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
         check_coefficient(self.id, self.coefficient)?;
-        let e = self.axis(model)?;
-        let c = self.coefficient;
-        let damping = Mat::from_fn(6, 6, |i, j| {
-            let sign = if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
-            sign * c * e[i % 3] * e[j % 3]
-        });
+        let e = line_direction(model, self.id, self.nodes)?;
         Ok(ElementMatrices {
             dofs: self.dofs(),
             stiffness: Mat::zeros(6, 6),
             mass: Mat::zeros(6, 6),
-            damping: Some(damping),
+            damping: Some(axial_matrix(self.coefficient, e)),
         })
     }
 
@@ -226,6 +195,7 @@ impl ElementBehaviour for AxialDashpot {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dof::DofKind;
     use crate::Node;
 
     /// Two nodes 1 -> 2 along `d` (not unit), each given its translations

@@ -12,6 +12,7 @@ pub mod beam;
 mod behaviour;
 mod bending;
 pub mod dashpot;
+mod discrete;
 pub mod planar_beam;
 pub mod point_mass;
 mod registry;

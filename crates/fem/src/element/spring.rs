@@ -1,12 +1,13 @@
 //! Scalar spring between two DOFs, or from one DOF to ground; and the
 //! spring along the line between two nodes.
 
-use super::registry::wrong_section;
-use super::{
-    axis, node_dofs, Element, ElementBehaviour, ElementMatrices, ElementType, SectionKind,
+use super::discrete::{
+    axial_matrix, line_direction, scalar_dofs, scalar_element_dofs, scalar_matrix, scalar_nodes,
 };
+use super::registry::wrong_section;
+use super::{node_dofs, Element, ElementBehaviour, ElementMatrices, ElementType, SectionKind};
 use super::{SectionValues, VtkCell, TRANSLATIONS};
-use crate::dof::{Dof, DofKind};
+use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::FemError;
 use faer::Mat;
@@ -56,18 +57,7 @@ fn scalar_spring(
     let SectionValues::Spring { dofs, stiffness } = section else {
         return Err(wrong_section(name, id, section));
     };
-    let dof =
-        |node: Option<&NodeId>, kind: Option<DofKind>| node.zip(kind).map(|(n, k)| Dof::new(*n, k));
-    let missing = |reason: &str| FemError::InvalidElement {
-        element: id,
-        reason: reason.into(),
-    };
-    let first = dof(nodes.first(), dofs[0]).ok_or_else(|| missing("spring without a DOF"))?;
-    let second = if between {
-        Some(dof(nodes.get(1), dofs[1]).ok_or_else(|| missing("spring without a second DOF"))?)
-    } else {
-        None
-    };
+    let (first, second) = scalar_dofs("spring", id, nodes, dofs, between)?;
     Ok(Spring {
         id,
         first,
@@ -93,27 +83,19 @@ impl ElementBehaviour for Spring {
     }
 
     fn nodes(&self) -> Vec<NodeId> {
-        let mut n = vec![self.first.node];
-        if let Some(s) = self.second {
-            n.push(s.node);
-        }
-        n
+        scalar_nodes(self.first, self.second)
     }
 
     fn dofs(&self) -> Vec<Dof> {
-        let mut d = vec![self.first];
-        d.extend(self.second);
-        d
+        scalar_element_dofs(self.first, self.second)
     }
 
     fn matrices(&self, _model: &Model) -> Result<ElementMatrices, FemError> {
-        let c = self.stiffness;
         let dofs = self.dofs();
         let n = dofs.len();
-        let stiffness = Mat::from_fn(n, n, |i, j| if i == j { c } else { -c });
         Ok(ElementMatrices {
             dofs,
-            stiffness,
+            stiffness: scalar_matrix(self.stiffness, n),
             mass: Mat::zeros(n, n),
             damping: None,
         })
@@ -138,17 +120,6 @@ pub struct AxialSpring {
     pub stiffness: f64,
 }
 
-impl AxialSpring {
-    /// Length and unit direction; an error for coincident nodes.
-    fn axis(&self, model: &Model) -> Result<[f64; 3], FemError> {
-        let (l, d) = axis(model.coords(self.nodes[0]), model.coords(self.nodes[1]));
-        if l.is_nan() || l <= 0.0 {
-            return Err(FemError::ZeroLength { element: self.id });
-        }
-        Ok(d)
-    }
-}
-
 impl ElementBehaviour for AxialSpring {
     fn id(&self) -> usize {
         self.id
@@ -163,19 +134,14 @@ impl ElementBehaviour for AxialSpring {
     }
 
     fn validate(&self, model: &Model) -> Result<(), FemError> {
-        self.axis(model).map(|_| ())
+        line_direction(model, self.id, self.nodes).map(|_| ())
     }
 
     fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError> {
-        let d = self.axis(model)?;
-        let k = self.stiffness;
-        let stiffness = Mat::from_fn(6, 6, |i, j| {
-            let sign = if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
-            sign * k * d[i % 3] * d[j % 3]
-        });
+        let d = line_direction(model, self.id, self.nodes)?;
         Ok(ElementMatrices {
             dofs: self.dofs(),
-            stiffness,
+            stiffness: axial_matrix(self.stiffness, d),
             mass: Mat::zeros(6, 6),
             damping: None,
         })
