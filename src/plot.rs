@@ -28,29 +28,13 @@ pub struct Plot {
 
 /// Writes each of `plots` into `dir`, each through a temporary file
 /// renamed into place (only over a regular file), so that no half-written
-/// plot is left behind; a plot with a point that is not finite is refused,
-/// naming the file, the curve and the point. Returns the files written.
+/// plot is left behind. Points that are not finite are gaps in their
+/// curve (a phase where the magnitude is zero), never numbers in the SVG.
+/// Returns the files written.
 pub fn write_plots(dir: &Path, plots: &[Plot]) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     for plot in plots {
         let path = dir.join(&plot.file);
-        if let Some((curve, k, p)) = plot.figure.panels.iter().find_map(|panel| {
-            panel.curves.iter().find_map(|c| {
-                let k = c
-                    .points
-                    .iter()
-                    .position(|(x, y)| !(x.is_finite() && y.is_finite()))?;
-                Some((&c.name, k, c.points[k]))
-            })
-        }) {
-            return Err(format!(
-                "{}: refusing to draw point {} ({:e}, {:e}) of curve '{curve}': not finite",
-                path.display(),
-                k + 1,
-                p.0,
-                p.1
-            ));
-        }
         crate::export::write_atomically(&path, |out| {
             out.write_all(plot.figure.to_svg().as_bytes())
         })
@@ -368,36 +352,38 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_plot_with_a_point_that_is_not_finite_is_not_written() {
+    fn points_that_are_not_finite_are_gaps_not_numbers_in_the_svg() {
         let dir = tempfile::tempdir().unwrap();
-        let plot = |y: f64| Plot {
+        let plot = |scale: Scale| Plot {
             file: "p.svg".into(),
             figure: Figure {
                 title: "t".into(),
                 panels: vec![Panel {
                     title: "p".into(),
                     x: Axis::new("t (s)", Scale::Linear),
-                    y: Axis::new("F (N)", Scale::Linear),
+                    y: Axis::new("F (N)", scale),
                     curves: vec![Curve {
                         name: "spring".into(),
-                        points: vec![(0.0, 1.0), (1.0, y)],
+                        points: vec![
+                            (0.0, 1.0),
+                            (1.0, f64::NAN),
+                            (2.0, f64::INFINITY),
+                            (3.0, 2.0),
+                            (f64::NEG_INFINITY, 3.0),
+                        ],
                         style: Style::nth(0),
-                        markers: false,
+                        markers: true,
                     }],
                     legend: false,
                 }],
             },
         };
-        let e = write_plots(dir.path(), &[plot(f64::INFINITY)]).unwrap_err();
-        assert!(
-            e.ends_with("p.svg: refusing to draw point 2 (1e0, inf) of curve 'spring': not finite"),
-            "{e}"
-        );
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
-        let written = write_plots(dir.path(), &[plot(2.0)]).unwrap();
-        assert!(std::fs::read_to_string(&written[0])
-            .unwrap()
-            .starts_with("<svg"));
+        for scale in [Scale::Linear, Scale::Log] {
+            let written = write_plots(dir.path(), &[plot(scale)]).unwrap();
+            let svg = std::fs::read_to_string(&written[0]).unwrap();
+            assert!(svg.starts_with("<svg"));
+            assert!(!svg.contains("NaN") && !svg.contains("inf"), "{scale:?}");
+        }
     }
 
     #[test]
