@@ -331,6 +331,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     let budget = Budget::at_most(cli.max_memory);
     let deck = DeckOptions {
         allow_unknown: cli.allow_unknown,
+        memory: budget,
     };
     match cli.command {
         Command::Study {

@@ -81,6 +81,7 @@ fn allowed_unknown_keywords_are_skipped_and_listed_once_each() {
         + "*FOO BAR\n1, 2\n*BOUNDRY\n3, 1, 6\n*STEP\n*FREQUENCY\n5\n*END STEP\n*FOO BAR\n";
     let allow = DeckOptions {
         allow_unknown: true,
+        ..DeckOptions::default()
     };
     let deck = parse_deck(Path::new("test.inp"), &text, &allow).unwrap();
     let strict = parse(BEAM).unwrap();
