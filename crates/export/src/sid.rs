@@ -371,10 +371,7 @@ pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a SID file written by [`write_sid`].
 pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = crate::read_text(path)?;
     parse_sid(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: e.to_string(),
