@@ -336,6 +336,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
     let budget = Budget::at_most(cli.max_memory);
     let deck = DeckOptions {
         allow_unknown: cli.allow_unknown,
+        memory: budget,
     };
     let follow = cli.follow_symlinks;
     let output = |path: PathBuf| output_path(path, follow);

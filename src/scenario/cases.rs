@@ -37,6 +37,9 @@ pub(super) fn study(src: TomlSource<'_>, raw: &RawFile) -> Result<Option<StudySp
     }))
 }
 
+/// The most points of a `[frf]`: 10^7 solves of the coupled system.
+pub const MAX_FRF_POINTS: usize = 10_000_000;
+
 /// The frequency band and the number of points, checked.
 pub(super) fn frf(src: TomlSource<'_>, raw: &RawFile) -> Result<Option<FrfSpec>, InputError> {
     let Some(f) = &raw.frf else {
@@ -48,6 +51,17 @@ pub(super) fn frf(src: TomlSource<'_>, raw: &RawFile) -> Result<Option<FrfSpec>,
         return Err(src.at(
             f,
             "frf: band_hz = [low, high] with 0 <= low < high (Hz) and points >= 2",
+        ));
+    }
+    if r.points > MAX_FRF_POINTS {
+        return Err(src.at(
+            f,
+            format!(
+                "frf: {} points, more than the {MAX_FRF_POINTS} a transfer function may have \
+                 (each is a solve of the coupled system); take fewer points, or split the band \
+                 into several runs",
+                r.points
+            ),
         ));
     }
     Ok(Some(FrfSpec {

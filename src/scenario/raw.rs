@@ -206,6 +206,8 @@ pub(super) struct RawSimulation {
     pub alpha: f64,
     #[serde(default)]
     pub adaptive: Option<f64>,
+    #[serde(default = "default_max_steps")]
+    pub max_steps: usize,
     #[serde(default)]
     pub ramp: f64,
     #[serde(default)]
@@ -214,6 +216,10 @@ pub(super) struct RawSimulation {
     pub record: Vec<usize>,
     #[serde(default)]
     pub record_nodes: Vec<u64>,
+}
+
+fn default_max_steps() -> usize {
+    flexbody_mbs::time::DEFAULT_MAX_STEPS
 }
 
 fn default_alpha() -> f64 {

@@ -38,6 +38,7 @@ pub(super) fn simulation(
         duration: r.duration,
         alpha: r.alpha,
         adaptive: r.adaptive,
+        max_steps: r.max_steps,
         ..TimeSettings::default()
     };
     settings.validate().map_err(bad)?;

@@ -136,7 +136,10 @@ fn user_matrices_are_refused_with_their_line() {
     let text = bar() + "*MATRIX ASSEMBLE, STIFFNESS=K1, MASS=M1\n";
     let line = line_of(&text, "*MATRIX");
     for allow_unknown in [false, true] {
-        let options = DeckOptions { allow_unknown };
+        let options = DeckOptions {
+            allow_unknown,
+            ..DeckOptions::default()
+        };
         let err = parse_deck(Path::new("bar.inp"), &text, &options)
             .unwrap_err()
             .to_string();

@@ -73,6 +73,25 @@ pub enum ExportError {
     Model(String),
 }
 
+/// The text of the body file at `path`, read with a bound on its line
+/// length ([`flexbody_io::text::read_text`]).
+pub(crate) fn read_text(path: &Path) -> Result<String, ExportError> {
+    flexbody_io::text::read_text(path).map_err(|e| match e {
+        flexbody_io::InputError::Read { path, cause } => ExportError::Read { path, cause },
+        flexbody_io::InputError::Invalid {
+            path,
+            line,
+            message,
+        } => ExportError::Format {
+            path,
+            message: match line {
+                Some(line) => format!("line {line}: {message}"),
+                None => message,
+            },
+        },
+    })
+}
+
 /// The temporary file beside `path` that [`write_atomically`] writes and
 /// renames.
 fn temporary(path: &Path) -> Result<PathBuf, ExportError> {
@@ -393,8 +412,9 @@ pub(crate) fn json_block_at(text: &str, line: usize) -> String {
         .filter(|l| l.starts_with("  \"") && !l.starts_with("   "))
         .filter_map(|l| l.trim_start().strip_prefix('"')?.split('"').next())
         .last()
-        .unwrap_or("document")
-        .to_string()
+        .map_or("document".into(), |key| {
+            flexbody_io::text::excerpt(key).into_owned()
+        })
 }
 
 /// Writes `body` as JSON to `path` (atomically).

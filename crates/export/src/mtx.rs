@@ -20,6 +20,8 @@ use crate::float_text::push_exp;
 use crate::{ExportError, FileSet};
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
+use flexbody_io::text::excerpt;
+use flexbody_linalg::memory::Budget;
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
@@ -164,18 +166,31 @@ pub fn write_mtx(
 
 /// Reads a Matrix Market matrix (array or coordinate; real; general or
 /// symmetric), naming the file and line of what is wrong.
+///
+/// Sizes are checked before storage is taken: the entries a size line
+/// announces must fit in the file (a value line takes at least 2 bytes,
+/// an entry line 6), and the dense matrix (8 bytes per entry) in the
+/// memory left ([`Budget::MACHINE`]).
 pub fn read_matrix(path: &Path) -> Result<Mat<f64>, ExportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
-    parse_matrix(&text).map_err(|(line, message)| ExportError::Format {
+    read_matrix_of(path, None)
+}
+
+/// [`read_matrix`] of a matrix that must be `shape` (rows, columns): a
+/// size line that says otherwise is an error before storage is taken.
+fn read_matrix_of(path: &Path, shape: Option<(usize, usize)>) -> Result<Mat<f64>, ExportError> {
+    let text = crate::read_text(path)?;
+    parse_matrix(&text, shape).map_err(|(line, message)| ExportError::Format {
         path: path.to_path_buf(),
         message: format!("line {line}: {message}"),
     })
 }
 
-fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
+/// The shortest value line of an array file (`0` and a newline) and entry
+/// line of a coordinate file (`1 1 0` and a newline).
+const MIN_VALUE_BYTES: usize = 2;
+const MIN_ENTRY_BYTES: usize = 6;
+
+fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (usize, String)> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let (_, header) = lines.next().ok_or((1, "empty file".to_string()))?;
     let h: Vec<String> = header
@@ -185,18 +200,37 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
     if h.len() < 5 || h[0] != "%%matrixmarket" || h[1] != "matrix" || h[3] != "real" {
         return Err((
             1,
-            format!("'{header}' is not a real Matrix Market matrix header"),
+            format!(
+                "'{header}' is not a real Matrix Market matrix header",
+                header = excerpt(header)
+            ),
         ));
     }
     let array = match h[2].as_str() {
         "array" => true,
         "coordinate" => false,
-        other => return Err((1, format!("storage '{other}' (array or coordinate)"))),
+        other => {
+            return Err((
+                1,
+                format!(
+                    "storage '{other}' (array or coordinate)",
+                    other = excerpt(other)
+                ),
+            ))
+        }
     };
     let symmetric = match h[4].as_str() {
         "general" => false,
         "symmetric" => true,
-        other => return Err((1, format!("symmetry '{other}' (general or symmetric)"))),
+        other => {
+            return Err((
+                1,
+                format!(
+                    "symmetry '{other}' (general or symmetric)",
+                    other = excerpt(other)
+                ),
+            ))
+        }
     };
     let mut body = lines.filter(|(_, l)| !l.is_empty() && !l.starts_with('%'));
     let (size_line, size) = body
@@ -206,7 +240,7 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
         .split_whitespace()
         .map(|t| {
             t.parse()
-                .map_err(|_| (size_line, format!("'{t}' is not a count")))
+                .map_err(|_| (size_line, format!("'{t}' is not a count", t = excerpt(t))))
         })
         .collect::<Result<_, _>>()?;
     let (nrows, ncols) = match dims.as_slice() {
@@ -215,18 +249,66 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
         _ => {
             return Err((
                 size_line,
-                format!("size line '{size}' has the wrong number of counts"),
+                format!(
+                    "size line '{size}' has the wrong number of counts",
+                    size = excerpt(size)
+                ),
             ))
         }
     };
+    if let Some((rows, cols)) = shape.filter(|s| *s != (nrows, ncols)) {
+        return Err((
+            size_line,
+            format!("the matrix is {nrows} x {ncols}, the index says {rows} x {cols}"),
+        ));
+    }
+    let values = nrows.checked_mul(ncols);
+    let announced = if array {
+        if symmetric {
+            nrows.checked_mul(nrows.saturating_add(1)).map(|n| n / 2)
+        } else {
+            values
+        }
+    } else {
+        Some(dims[2])
+    };
+    let min_bytes = if array {
+        MIN_VALUE_BYTES
+    } else {
+        MIN_ENTRY_BYTES
+    };
+    let room = text.len() / min_bytes + 1;
+    match announced {
+        Some(n) if n <= room => {}
+        _ => {
+            return Err((
+                size_line,
+                format!(
+                    "the size line announces {} entries, but the file of {} bytes holds at \
+                     most {room} (a line takes at least {min_bytes} bytes)",
+                    announced.map_or_else(|| "more than 2^64".into(), |n| n.to_string()),
+                    text.len()
+                ),
+            ))
+        }
+    }
+    let bytes = values.and_then(|v| v.checked_mul(std::mem::size_of::<f64>()));
+    let what = format!("a {nrows} x {ncols} dense matrix");
+    match bytes {
+        Some(b) => Budget::MACHINE
+            .ensure(b as u64, &what)
+            .map_err(|e| (size_line, e.to_string()))?,
+        None => {
+            return Err((
+                size_line,
+                format!("{what} has more entries than memory can hold"),
+            ))
+        }
+    }
     let mut m = Mat::zeros(nrows, ncols);
     let mut last = size_line;
     if array {
-        let want = if symmetric {
-            nrows * (nrows + 1) / 2
-        } else {
-            nrows * ncols
-        };
+        let want = announced.unwrap_or_default();
         let mut count = 0;
         for (n, l) in body {
             last = n;
@@ -234,7 +316,7 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
                 .parse()
                 .ok()
                 .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| (n, format!("'{l}' is not a finite number")))?;
+                .ok_or_else(|| (n, format!("'{l}' is not a finite number", l = excerpt(l))))?;
             if count >= want {
                 return Err((
                     n,
@@ -272,7 +354,7 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
             last = n;
             let t: Vec<&str> = l.split_whitespace().collect();
             let [i, j, v] = t.as_slice() else {
-                return Err((n, format!("'{l}' is not 'row col value'")));
+                return Err((n, format!("'{l}' is not 'row col value'", l = excerpt(l))));
             };
             let (i, j): (usize, usize) = match (i.parse(), j.parse()) {
                 (Ok(i), Ok(j)) if i >= 1 && j >= 1 && i <= nrows && j <= ncols => (i, j),
@@ -282,7 +364,7 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
                 .parse()
                 .ok()
                 .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| (n, format!("'{v}' is not a finite number")))?;
+                .ok_or_else(|| (n, format!("'{v}' is not a finite number", v = excerpt(v))))?;
             m[(i - 1, j - 1)] += v;
             if symmetric && i != j {
                 m[(j - 1, i - 1)] += v;
@@ -310,10 +392,7 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
             dir.to_path_buf(),
         )
     };
-    let text = std::fs::read_to_string(&index_path).map_err(|source| ExportError::Read {
-        path: index_path.clone(),
-        cause: source,
-    })?;
+    let text = crate::read_text(&index_path)?;
     let bad = |message: String| ExportError::Format {
         path: index_path.clone(),
         message,
@@ -337,18 +416,7 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
             return Ok(None);
         };
         let path = dir.join(file);
-        let m = read_matrix(&path)?;
-        if m.nrows() != rows || m.ncols() != r {
-            return Err(ExportError::Format {
-                path,
-                message: format!(
-                    "{name} is {} x {}, the index says {rows} x {r}",
-                    m.nrows(),
-                    m.ncols()
-                ),
-            });
-        }
-        Ok(Some(m))
+        read_matrix_of(&path, Some((rows, r))).map(Some)
     };
     let need = |name: &str, rows: usize| {
         load(name, rows)?.ok_or_else(|| bad(format!("block 'files': no '{name}' file")))
@@ -409,22 +477,72 @@ mod tests {
 
     #[test]
     fn array_and_coordinate_files_parse() {
-        let a =
-            parse_matrix("%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n4\n").unwrap();
+        let a = parse_matrix(
+            "%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n4\n",
+            None,
+        )
+        .unwrap();
         assert_eq!((a[(1, 0)], a[(0, 1)]), (2.0, 3.0));
-        let s = parse_matrix("%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n4\n").unwrap();
+        let s = parse_matrix(
+            "%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n4\n",
+            None,
+        )
+        .unwrap();
         assert_eq!((s[(0, 1)], s[(1, 0)], s[(1, 1)]), (2.0, 2.0, 4.0));
         let c = parse_matrix(
             "%%MatrixMarket matrix coordinate real symmetric\n% c\n2 2 2\n1 1 5\n2 1 7\n",
+            None,
         )
         .unwrap();
         assert_eq!((c[(0, 1)], c[(1, 0)], c[(0, 0)]), (7.0, 7.0, 5.0));
     }
 
     #[test]
+    fn sizes_are_checked_before_storage_is_taken() {
+        let array = "%%MatrixMarket matrix array real general\n";
+        let coordinate = "%%MatrixMarket matrix coordinate real general\n";
+        // More values than the file can hold, or than 2^64.
+        let e = parse_matrix(&format!("{array}1000 1000\n1\n"), None).unwrap_err();
+        assert_eq!(e.0, 2);
+        assert!(
+            e.1.contains("announces 1000000 entries, but the file of"),
+            "{}",
+            e.1
+        );
+        let huge = format!("{array}18446744073709551615 18446744073709551615\n");
+        let e = parse_matrix(&huge, None).unwrap_err();
+        assert!(e.1.contains("announces more than 2^64 entries"), "{}", e.1);
+        let e = parse_matrix(&format!("{coordinate}2 2 1000000\n1 1 1\n"), None).unwrap_err();
+        assert!(e.1.contains("announces 1000000 entries"), "{}", e.1);
+        // A coordinate file of no entries whose dense matrix (8 TB) no
+        // machine holds.
+        let e = parse_matrix(&format!("{coordinate}1000000 1000000 0\n"), None).unwrap_err();
+        assert!(
+            e.1.starts_with("a 1000000 x 1000000 dense matrix needs 7450.58 GiB")
+                && e.1.contains("more memory"),
+            "{}",
+            e.1
+        );
+        // A shape other than the expected one, before anything else.
+        let e = parse_matrix(&format!("{coordinate}1000000 1000000 0\n"), Some((3, 2)));
+        assert!(e.unwrap_err().1.contains("the index says 3 x 2"));
+        // A long header is quoted as an excerpt.
+        let long = format!("%%MatrixMarket {}\n", "x".repeat(10_000));
+        let e = parse_matrix(&long, None).unwrap_err();
+        assert!(
+            e.1.len() < 200 && e.1.contains("... (10015 bytes)"),
+            "{}",
+            e.1
+        );
+    }
+
+    #[test]
     fn truncated_files_name_the_line() {
-        let e =
-            parse_matrix("%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n").unwrap_err();
+        let e = parse_matrix(
+            "%%MatrixMarket matrix array real general\n2 2\n1\n2\n3\n",
+            None,
+        )
+        .unwrap_err();
         assert_eq!(e.0, 5);
         assert!(e.1.contains("3 entries, expected 4"), "{}", e.1);
     }

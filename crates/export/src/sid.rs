@@ -27,6 +27,8 @@
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::{Mat, MatRef};
+use flexbody_io::text::excerpt;
+use flexbody_linalg::memory::Budget;
 use flexbody_reduce::ffrf::FloatingFrame;
 use std::io::{self, Write};
 use std::path::Path;
@@ -369,10 +371,7 @@ pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a SID file written by [`write_sid`].
 pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = crate::read_text(path)?;
     parse_sid(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: e.to_string(),
@@ -442,7 +441,7 @@ impl<'a> Lines<'a> {
             Err(ParseError {
                 line: n,
                 block: block.to_string(),
-                message: format!("expected '{keyword}', found '{l}'"),
+                message: format!("expected '{keyword}', found '{l}'", l = excerpt(l)),
             })
         }
     }
@@ -455,8 +454,8 @@ fn number(v: &str) -> Result<f64, String> {
     match v.parse::<f64>() {
         Ok(x) if x.is_finite() && x.abs() <= largest => Ok(x),
         Ok(x) if x.is_finite() => Err(format!("{x:e} is beyond {largest:e} in magnitude")),
-        Ok(_) => Err(format!("'{v}' is not a finite number")),
-        Err(_) => Err(format!("'{v}' is not a number")),
+        Ok(_) => Err(format!("'{}' is not a finite number", excerpt(v))),
+        Err(_) => Err(format!("'{}' is not a number", excerpt(v))),
     }
 }
 
@@ -473,11 +472,16 @@ fn indexed(key: &str) -> Option<(&str, Vec<usize>)> {
     Some((name.trim(), idx?))
 }
 
+/// One block `name` (a Taylor expansion) of `nq` coordinates that must be
+/// `shape` (rows, columns; `usize::MAX` rows: any). Its shape and its
+/// count of entries are checked before storage is taken for it, and the
+/// storage against the memory left ([`Budget::MACHINE`]).
 fn parse_taylor(
     lines: &mut Lines<'_>,
     name: &str,
     opened: usize,
     nq: usize,
+    shape: (usize, usize),
 ) -> Result<Taylor, ParseError> {
     let err = |line: usize, message: String| ParseError {
         line,
@@ -497,27 +501,35 @@ fn parse_taylor(
         if l.starts_with("end ") || l.starts_with("new ") {
             return Err(err(
                 n,
-                format!("'{l}' before 'end {name}' (block opened at line {opened})"),
+                format!(
+                    "'{l}' before 'end {name}' (block opened at line {opened})",
+                    l = excerpt(l)
+                ),
             ));
         }
-        let (k, v) =
-            key_value(l).ok_or_else(|| err(n, format!("expected 'key = value', found '{l}'")))?;
+        let (k, v) = key_value(l).ok_or_else(|| {
+            err(
+                n,
+                format!("expected 'key = value', found '{l}'", l = excerpt(l)),
+            )
+        })?;
         if let Some(slot) = KEYS.iter().position(|key| k.eq_ignore_ascii_case(key)) {
             if header[slot].is_some() {
                 return Err(err(n, format!("'{}' is given twice", KEYS[slot])));
             }
             header[slot] = Some(
                 v.parse()
-                    .map_err(|_| err(n, format!("{k} = '{v}' is not a count")))?,
+                    .map_err(|_| err(n, format!("{k} = '{v}' is not a count", v = excerpt(v))))?,
             );
             continue;
         }
-        let (kind, idx) = indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'")))?;
+        let (kind, idx) =
+            indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'", k = excerpt(k))))?;
         let value = number(v).map_err(|m| err(n, m))?;
         match (kind, idx.as_slice()) {
             ("m0", [i, j]) => m0.push((n, *i, *j, value)),
             ("m1", [i, j, k]) => m1.push((n, *i, *j, *k, value)),
-            _ => return Err(err(n, format!("unknown entry '{k}'"))),
+            _ => return Err(err(n, format!("unknown entry '{k}'", k = excerpt(k)))),
         }
     };
     let mut h = [0usize; 6];
@@ -543,8 +555,24 @@ fn parse_taylor(
             format!("structure {structure} is not supported (0 or 3)"),
         ));
     }
-    let mut a0 = Mat::zeros(nrow, ncol);
-    let mut a1 = vec![Mat::zeros(nrow, ncol); if order == 1 { nq } else { 0 }];
+    let (rows, cols) = shape;
+    if (rows != usize::MAX && nrow != rows) || ncol != cols {
+        let rows = if rows == usize::MAX { nrow } else { rows };
+        return Err(err(
+            opened,
+            format!("is {nrow} x {ncol}, expected {rows} x {cols}"),
+        ));
+    }
+    let matrices = if order == 1 { nq + 1 } else { 1 };
+    let entries = nrow.checked_mul(ncol);
+    let bytes = entries
+        .and_then(|e| e.checked_mul(matrices))
+        .and_then(|e| e.checked_mul(std::mem::size_of::<f64>()));
+    let what = format!("{matrices} matrices of {nrow} x {ncol}");
+    Budget::MACHINE
+        .ensure(bytes.map_or(u64::MAX, |b| b as u64), &what)
+        .map_err(|e| err(opened, e.to_string()))?;
+    let entries = entries.unwrap_or(usize::MAX);
     let expect = |count: usize, want: usize, what: &str| {
         if count == want {
             Ok(())
@@ -553,16 +581,18 @@ fn parse_taylor(
         }
     };
     let full = structure == FULL;
-    expect(m0.len(), if full { nrow * ncol } else { 0 }, "m0")?;
+    expect(m0.len(), if full { entries } else { 0 }, "m0")?;
     expect(
         m1.len(),
         if full && order == 1 {
-            nrow * ncol * nq
+            entries.saturating_mul(nq)
         } else {
             0
         },
         "m1",
     )?;
+    let mut a0 = Mat::zeros(nrow, ncol);
+    let mut a1 = vec![Mat::zeros(nrow, ncol); if order == 1 { nq } else { 0 }];
     // Every entry once: the counts matched, so a repeated entry hides a
     // missing one.
     let mut seen = std::collections::HashMap::new();
@@ -603,29 +633,6 @@ fn parse_taylor(
         m0: a0,
         m1: a1,
     })
-}
-
-fn check_shape(
-    t: &Taylor,
-    name: &str,
-    nrow: usize,
-    ncol: usize,
-    line: usize,
-) -> Result<(), ParseError> {
-    if t.nrow != nrow || (ncol != usize::MAX && t.ncol != ncol) {
-        return Err(ParseError {
-            line,
-            block: name.to_string(),
-            message: format!(
-                "is {} x {}, expected {} x {}",
-                t.nrow,
-                t.ncol,
-                nrow,
-                if ncol == usize::MAX { t.ncol } else { ncol }
-            ),
-        });
-    }
-    Ok(())
 }
 
 /// The inertia tensor `J` and the modal mass, stiffness and damping
@@ -669,8 +676,12 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
         if l.eq_ignore_ascii_case("end refmod") {
             break n;
         }
-        let (k, v) =
-            key_value(l).ok_or_else(|| bad(n, format!("expected 'key = value', found '{l}'")))?;
+        let (k, v) = key_value(l).ok_or_else(|| {
+            bad(
+                n,
+                format!("expected 'key = value', found '{l}'", l = excerpt(l)),
+            )
+        })?;
         if k.eq_ignore_ascii_case("mass") {
             let m = number(v).map_err(|m| bad(n, format!("mass: {m}")))?;
             if m <= 0.0 || mass.is_some() {
@@ -679,24 +690,24 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
                 } else {
                     "is given twice"
                 };
-                return Err(bad(n, format!("mass {v} {why}")));
+                return Err(bad(n, format!("mass {v} {why}", v = excerpt(v))));
             }
             mass = Some(m);
         } else if k.eq_ignore_ascii_case("nelastq") {
             if nelastq.is_some() {
                 return Err(bad(n, "nelastq is given twice".into()));
             }
-            nelastq = Some(
-                v.parse::<usize>()
-                    .map_err(|_| bad(n, format!("nelastq '{v}' is not a count")))?,
-            );
+            nelastq =
+                Some(v.parse::<usize>().map_err(|_| {
+                    bad(n, format!("nelastq '{v}' is not a count", v = excerpt(v)))
+                })?);
         } else if let Some(("ielastq", idx)) = indexed(k) {
             let [i] = idx.as_slice() else {
-                return Err(bad(n, format!("'{k}' needs one index")));
+                return Err(bad(n, format!("'{k}' needs one index", k = excerpt(k))));
             };
             names.push((n, *i, v.trim_matches('\'').trim().to_string()));
         } else {
-            return Err(bad(n, format!("unknown entry '{k}'")));
+            return Err(bad(n, format!("unknown entry '{k}'", k = excerpt(k))));
         }
     };
     let mass = mass.ok_or_else(|| bad(refmod_end, "'mass' is missing".into()))?;
@@ -728,7 +739,10 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             return Err(ParseError {
                 line: n,
                 block: "frame".into(),
-                message: format!("expected 'new node' or 'end frame', found '{l}'"),
+                message: format!(
+                    "expected 'new node' or 'end frame', found '{l}'",
+                    l = excerpt(l)
+                ),
             });
         }
         let (rn, rl) = lines.next("node", n)?;
@@ -738,19 +752,20 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             .ok_or_else(|| ParseError {
                 line: rn,
                 block: "node".into(),
-                message: format!("expected \"rframe = '<node id>'\", found '{rl}'"),
+                message: format!(
+                    "expected \"rframe = '<node id>'\", found '{rl}'",
+                    rl = excerpt(rl)
+                ),
             })?;
         let mut parts = Vec::new();
         for name in ["origin", "phi", "psi", "AP"] {
             let opened = lines.expect(name, "node", n)?;
-            let t = parse_taylor(&mut lines, name, opened, nq)?;
-            let (rows, cols) = match name {
+            let shape = match name {
                 "origin" => (3, 1),
                 "AP" => (3, 3),
                 _ => (3, nq),
             };
-            check_shape(&t, name, rows, cols, opened)?;
-            parts.push(t);
+            parts.push(parse_taylor(&mut lines, name, opened, nq, shape)?);
         }
         lines.expect("end node", "node", n)?;
         if nodes.iter().any(|node: &SidNode| node.id == id) {
@@ -786,12 +801,7 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
     let mut q: Vec<Taylor> = Vec::with_capacity(11);
     for (name, rows, cols) in expected {
         let opened = lines.expect(name, "modal", modal)?;
-        let t = parse_taylor(&mut lines, name, opened, nq)?;
-        if rows == usize::MAX {
-            check_shape(&t, name, t.nrow, cols, opened)?;
-        } else {
-            check_shape(&t, name, rows, cols, opened)?;
-        }
+        let t = parse_taylor(&mut lines, name, opened, nq, (rows, cols))?;
         if ["J", "Me", "Ke", "De"].contains(&name) {
             check_symmetric_semi_definite(&t, name, opened)?;
         }

@@ -13,6 +13,7 @@ pub mod deck;
 pub mod matrices;
 pub mod model_toml;
 pub mod spelling;
+pub mod text;
 mod toml_keys;
 mod toml_source;
 

@@ -33,6 +33,7 @@
 //! entry (the two are averaged). The DOF list has one line per equation,
 //! `node dof`, with `dof` as `ux`..`rz` or `1`..`6`; `#` starts a comment.
 
+use crate::text::excerpt;
 use crate::InputError;
 use flexbody_fem::{Dof, DofKind, DofMap, NodeId};
 use flexbody_linalg::sparse::Triplet;
@@ -144,10 +145,7 @@ fn invalid(path: &Path, line: Option<usize>, message: impl Into<String>) -> Inpu
 }
 
 fn read_text(path: &Path) -> Result<String, InputError> {
-    std::fs::read_to_string(path).map_err(|source| InputError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })
+    crate::text::read_text(path)
 }
 
 /// `job` + `.ext`, keeping any dot already in the job name.
@@ -174,15 +172,19 @@ fn parse_calculix_dofs(path: &Path, text: &str) -> Result<DofMap, InputError> {
         let bad = |what: String| invalid(path, Some(line), what);
         let (node, direction) = content.split_once('.').ok_or_else(|| {
             bad(format!(
-                "expected `node.direction` (e.g. `12.3`), found `{content}`"
+                "expected `node.direction` (e.g. `12.3`), found `{}`",
+                excerpt(content)
             ))
         })?;
         let node: NodeId = node
             .parse()
-            .map_err(|_| bad(format!("node `{node}` is not a node number")))?;
-        let direction: u32 = direction
-            .parse()
-            .map_err(|_| bad(format!("direction `{direction}` is not a number")))?;
+            .map_err(|_| bad(format!("node `{}` is not a node number", excerpt(node))))?;
+        let direction: u32 = direction.parse().map_err(|_| {
+            bad(format!(
+                "direction `{}` is not a number",
+                excerpt(direction)
+            ))
+        })?;
         let kind = match direction {
             1..=6 => DofKind::ALL[direction as usize - 1],
             0 => {
@@ -220,13 +222,18 @@ fn parse_dof_list(path: &Path, text: &str) -> Result<DofMap, InputError> {
         };
         let node: NodeId = node
             .parse()
-            .map_err(|_| bad(format!("node `{node}` is not a node number")))?;
+            .map_err(|_| bad(format!("node `{}` is not a node number", excerpt(node))))?;
         let kind = DofKind::parse(dof)
             .or_else(|| match dof.parse::<usize>() {
                 Ok(d @ 1..=6) => Some(DofKind::ALL[d - 1]),
                 _ => None,
             })
-            .ok_or_else(|| bad(format!("DOF `{dof}` is not one of ux..rz or 1..6")))?;
+            .ok_or_else(|| {
+                bad(format!(
+                    "DOF `{}` is not one of ux..rz or 1..6",
+                    excerpt(dof)
+                ))
+            })?;
         push_dof(path, line, Dof::new(node, kind), &mut dofs, &mut seen)?;
     }
     Ok(DofMap::new(dofs))
@@ -270,7 +277,7 @@ fn parse_entry(
     let index = |name: &str, s: &str| -> Result<usize, InputError> {
         let i: usize = s
             .parse()
-            .map_err(|_| bad(format!("{name} `{s}` is not an equation number")))?;
+            .map_err(|_| bad(format!("{name} `{}` is not an equation number", excerpt(s))))?;
         if i == 0 || i > n {
             return Err(bad(format!("{name} {i} is out of range 1..={n} ({size})")));
         }
@@ -280,7 +287,7 @@ fn parse_entry(
     let col = index("column", col)?;
     let value: f64 = value
         .parse()
-        .map_err(|_| bad(format!("value `{value}` is not a number")))?;
+        .map_err(|_| bad(format!("value `{}` is not a number", excerpt(value))))?;
     if !value.is_finite() {
         return Err(bad(format!("value {value} is not finite")));
     }
@@ -349,6 +356,9 @@ struct MatrixMarketFile {
     entries: Vec<Entry>,
 }
 
+/// The shortest entry line of a coordinate file: `1 1 1` and its newline.
+const MIN_ENTRY_BYTES: usize = 6;
+
 fn parse_matrix_market(path: &Path, text: &str) -> Result<MatrixMarketFile, InputError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let header = lines.next().map_or("", |(_, l)| l);
@@ -366,7 +376,10 @@ fn parse_matrix_market(path: &Path, text: &str) -> Result<MatrixMarketFile, Inpu
                     return Err(invalid(
                         path,
                         Some(1),
-                        format!("{other} matrices are not supported (symmetric or general)"),
+                        format!(
+                            "{} matrices are not supported (symmetric or general)",
+                            excerpt(other)
+                        ),
                     ))
                 }
             }
@@ -376,8 +389,9 @@ fn parse_matrix_market(path: &Path, text: &str) -> Result<MatrixMarketFile, Inpu
                 path,
                 Some(1),
                 format!(
-                    "expected `%%MatrixMarket matrix coordinate real symmetric|general`, found `{header}`"
-                ),
+                "expected `%%MatrixMarket matrix coordinate real symmetric|general`, found `{}`",
+                excerpt(header)
+            ),
             ))
         }
     };
@@ -391,14 +405,14 @@ fn parse_matrix_market(path: &Path, text: &str) -> Result<MatrixMarketFile, Inpu
         return Err(invalid(
             path,
             Some(size_line),
-            format!("expected `rows cols entries`, found `{size}`"),
+            format!("expected `rows cols entries`, found `{}`", excerpt(size)),
         ));
     };
     if fields.len() != 3 {
         return Err(invalid(
             path,
             Some(size_line),
-            format!("expected `rows cols entries`, found `{size}`"),
+            format!("expected `rows cols entries`, found `{}`", excerpt(size)),
         ));
     }
     if rows != cols {
@@ -406,6 +420,20 @@ fn parse_matrix_market(path: &Path, text: &str) -> Result<MatrixMarketFile, Inpu
             path,
             Some(size_line),
             format!("the matrix is {rows} x {cols}, not square"),
+        ));
+    }
+    // Each entry is a line of at least `1 1 1` and a newline: a count the
+    // file cannot hold is refused before storage is taken for it.
+    let room = text.len() / MIN_ENTRY_BYTES + 1;
+    if count > room {
+        return Err(invalid(
+            path,
+            Some(size_line),
+            format!(
+                "{count} entries announced, but the file of {} bytes holds at most {room} \
+                 (an entry line takes at least {MIN_ENTRY_BYTES} bytes)",
+                text.len()
+            ),
         ));
     }
     let size_note = format!("line {size_line} gives {rows} x {cols}");
@@ -822,6 +850,30 @@ mod tests {
             assert_eq!(l, Some(line), "{text}: {message}");
             assert!(message.contains(what), "{text}: {message}");
         }
+
+        // Counts the file cannot hold, refused before storage is taken:
+        // usize::MAX aborted on "capacity overflow".
+        for count in ["18446744073709551615", "1000000000"] {
+            let text =
+                format!("%%MatrixMarket matrix coordinate real symmetric\n3 3 {count}\n1 1 4\n");
+            let k = dir.write("k.mtx", &text);
+            let (_, line, message) = where_and_what(read_matrix_market(&k, &m, &d).unwrap_err());
+            assert_eq!(line, Some(2));
+            let expected = format!(
+                "{count} entries announced, but the file of {} bytes holds at most {}",
+                text.len(),
+                text.len() / 6 + 1
+            );
+            assert!(message.starts_with(&expected), "{message}");
+        }
+        // A quoted line is cut to an excerpt.
+        let text = format!("%%MatrixMarket matrix {}\n", "y".repeat(5000));
+        let k = dir.write("k.mtx", &text);
+        let (_, _, message) = where_and_what(read_matrix_market(&k, &m, &d).unwrap_err());
+        assert!(
+            message.len() < 250 && message.ends_with("... (5022 bytes)`"),
+            "{message}"
+        );
 
         let k = dir.write("k.mtx", good_k);
         let bad_dofs = [

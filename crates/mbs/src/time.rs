@@ -16,6 +16,7 @@ use crate::system::{Assembled, Kinematics, System};
 use crate::MbsError;
 use faer::sparse::Triplet;
 use faer::Mat;
+use flexbody_linalg::memory::Budget;
 use flexbody_linalg::{sparse, SparseMat};
 use serde::{Deserialize, Serialize};
 
@@ -144,7 +145,21 @@ pub struct TimeSettings {
     /// Newton tolerance on the residual, relative to the force scale.
     pub tolerance: f64,
     pub max_iterations: usize,
+    /// Most steps a run may take, counting steps cut back and retried
+    /// ([`DEFAULT_MAX_STEPS`] unless raised): `duration / step` above it is
+    /// refused before the run, and a run whose cutbacks or step control
+    /// take more steps stops with an error.
+    pub max_steps: usize,
 }
+
+/// The steps a run may take unless `max_steps` says otherwise: 10^7, a
+/// 1000 s run at a 0.1 ms step.
+pub const DEFAULT_MAX_STEPS: usize = 10_000_000;
+
+/// The smallest step-control tolerance: the local error estimate of a
+/// smaller one is round-off, so the control would cut every step to its
+/// floor.
+pub const MIN_ADAPTIVE_TOLERANCE: f64 = 1e-12;
 
 impl Default for TimeSettings {
     fn default() -> Self {
@@ -155,6 +170,7 @@ impl Default for TimeSettings {
             adaptive: None,
             tolerance: 1e-10,
             max_iterations: 25,
+            max_steps: DEFAULT_MAX_STEPS,
         }
     }
 }
@@ -184,8 +200,32 @@ impl TimeSettings {
             if !(tol.is_finite() && tol > 0.0) {
                 return Err(format!("step-control tolerance {tol} must be positive"));
             }
+            if tol < MIN_ADAPTIVE_TOLERANCE {
+                return Err(format!(
+                    "step-control tolerance {tol:e} is below {MIN_ADAPTIVE_TOLERANCE:e}, where the \
+                     local error estimate is round-off and every step would be cut to its floor"
+                ));
+            }
+        }
+        let steps = self.duration / self.step;
+        if steps > self.max_steps as f64 {
+            return Err(format!(
+                "duration {:e} s at step {:e} s is {steps:.3e} steps, more than the {} a run may \
+                 take; lengthen the step, shorten the duration or raise max_steps",
+                self.duration, self.step, self.max_steps
+            ));
         }
         Ok(())
+    }
+
+    /// The memory the recorded history of a run of `coordinates`
+    /// coordinates and `connections` connections takes at `duration / step`
+    /// steps (a run with step control may take more or fewer).
+    pub fn history_bytes(&self, coordinates: usize, connections: usize) -> u64 {
+        let per_step = (3 * coordinates + connections + 3) * std::mem::size_of::<f64>()
+            + 4 * std::mem::size_of::<Vec<f64>>();
+        let steps = (self.duration / self.step).ceil() + 1.0;
+        (steps * per_step as f64).min(u64::MAX as f64) as u64
     }
 }
 
@@ -351,6 +391,13 @@ pub fn simulate(
     settings.validate().map_err(MbsError::Settings)?;
     let layout = system.layout();
     let n = layout.len;
+    Budget::MACHINE.ensure(
+        settings.history_bytes(n, system.connections.len()),
+        &format!(
+            "the history of {:.0} steps of {n} coordinates",
+            (settings.duration / settings.step).ceil()
+        ),
+    )?;
     let kins = system.all_kinematics(&layout)?;
     let lin = system.assemble(&kins, false)?;
     let profile = excitation.profile.clone().or_else(|| {
@@ -434,7 +481,17 @@ pub fn simulate(
     };
     let mut x_scale = state.x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut linear_jacobian: Option<(f64, Factor)> = None;
+    let mut steps = 0;
     while t < settings.duration * (1.0 - 1e-12) {
+        steps += 1;
+        if steps > settings.max_steps {
+            return Err(MbsError::Settings(format!(
+                "{} steps (counting steps cut back and retried) reach only t = {t:.6e} s of \
+                 {} s, at a step of {h:.3e} s: more than the max_steps = {} a run may take; \
+                 loosen `adaptive`, lengthen the step or raise max_steps",
+                settings.max_steps, settings.duration, settings.max_steps
+            )));
+        }
         h = h.min(settings.duration - t);
         let t1 = t + h;
         let r_n = eq.residual_force(&state.x, &state.v, t);
@@ -865,6 +922,35 @@ mod tests {
     }
 
     #[test]
+    fn a_run_whose_step_control_takes_more_than_max_steps_stops_with_an_error() {
+        let s = two_masses(0.0, false);
+        // 100 steps of 1 ms asked for; the tightest tolerance cuts each to
+        // its floor of step / 1024, so the run needs about 10^5 steps.
+        let settings = TimeSettings {
+            step: 1e-3,
+            duration: 0.1,
+            adaptive: Some(MIN_ADAPTIVE_TOLERANCE),
+            max_steps: 1000,
+            ..Default::default()
+        };
+        let e = simulate(&s, &Excitation::default(), &settings, Some(released(-0.05)))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("1000 steps (counting steps cut back and retried) reach only t =")
+                && e.contains("raise max_steps"),
+            "{e}"
+        );
+        // The same run with the steps it needs.
+        let enough = TimeSettings {
+            max_steps: 200_000,
+            ..settings
+        };
+        let r = simulate(&s, &Excitation::default(), &enough, Some(released(-0.05))).unwrap();
+        assert!(r.times.len() > 1000, "{} steps", r.times.len());
+    }
+
+    #[test]
     fn unusable_settings_and_profiles_are_named() {
         let s = two_masses(0.0, false);
         for (settings, needle) in [
@@ -889,6 +975,21 @@ mod tests {
                     ..Default::default()
                 },
                 "outside [-1/3, 0]",
+            ),
+            (
+                TimeSettings {
+                    step: 1e-9,
+                    duration: 1.0,
+                    ..Default::default()
+                },
+                "is 1.000e9 steps, more than the 10000000 a run may take",
+            ),
+            (
+                TimeSettings {
+                    adaptive: Some(1e-300),
+                    ..Default::default()
+                },
+                "tolerance 1e-300 is below 1e-12",
             ),
         ] {
             let e = simulate(&s, &Excitation::default(), &settings, None)

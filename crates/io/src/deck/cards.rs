@@ -11,6 +11,15 @@ use std::path::{Path, PathBuf};
 /// Deepest `*INCLUDE` nesting accepted (a deeper one is taken as a cycle).
 const MAX_INCLUDE_DEPTH: usize = 16;
 
+/// Most `*INCLUDE`s of one deck that read a file read before. Files that
+/// include each other several times over (each of 13 files including the
+/// next four times) expand to millions of reads; a deck needs few.
+pub const MAX_REPEATED_INCLUDES: usize = 10_000;
+
+/// Most bytes the `*INCLUDE`s of one deck read from files read before
+/// (1 GB). The first read of each file does not count.
+pub const MAX_REPEATED_BYTES: u64 = 1_000_000_000;
+
 /// Where a line comes from: the file (index into [`Files::paths`]) and the
 /// 1-based line number.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -23,6 +32,16 @@ pub(super) struct Loc {
 #[derive(Debug)]
 pub(super) struct Files {
     pub paths: Vec<PathBuf>,
+}
+
+/// What the `*INCLUDE` files of a deck have read so far, against
+/// [`MAX_REPEATED_INCLUDES`] and [`MAX_REPEATED_BYTES`].
+#[derive(Debug, Default)]
+struct Expansion {
+    repeats: usize,
+    repeated_bytes: u64,
+    /// The files read, by the path they were read under.
+    seen: std::collections::HashSet<PathBuf>,
 }
 
 impl Files {
@@ -97,7 +116,8 @@ impl DataLine {
             files.error(
                 self.loc,
                 format!(
-                    "{what}: expected a finite number (at most 1e100 in magnitude), got '{field}'"
+                    "{what}: expected a finite number (at most 1e100 in magnitude), got '{field}'",
+                    field = crate::text::excerpt(field)
                 ),
             )
         })
@@ -125,7 +145,10 @@ impl DataLine {
         parse_id(field).ok_or_else(|| {
             files.error(
                 self.loc,
-                format!("{what}: expected a positive integer, got '{field}'"),
+                format!(
+                    "{what}: expected a positive integer, got '{field}'",
+                    field = crate::text::excerpt(field)
+                ),
             )
         })
     }
@@ -215,7 +238,9 @@ pub(super) fn read_cards(path: &Path, text: &str) -> Result<(Files, Vec<Card>), 
         paths: vec![path.to_path_buf()],
     };
     let mut lines = Vec::new();
-    collect_lines(&mut files, 0, text, 0, &mut lines)?;
+    let mut expansion = Expansion::default();
+    expansion.seen.insert(path.to_path_buf());
+    collect_lines(&mut files, 0, text, 0, &mut expansion, &mut lines)?;
     let cards = split_cards(&files, &lines)?;
     Ok((files, cards))
 }
@@ -227,6 +252,7 @@ fn collect_lines(
     file: usize,
     text: &str,
     depth: usize,
+    expansion: &mut Expansion,
     out: &mut Vec<(Loc, String)>,
 ) -> Result<(), InputError> {
     for (i, raw) in text.lines().enumerate() {
@@ -249,7 +275,8 @@ fn collect_lines(
                         loc,
                         format!(
                             "*INCLUDE of '{input}': more than {MAX_INCLUDE_DEPTH} nested \
-                             includes (does a file include itself?)"
+                             includes (does a file include itself?)",
+                            input = crate::text::excerpt(&input)
                         ),
                     ));
                 }
@@ -258,16 +285,35 @@ fn collect_lines(
                     .map(Path::to_path_buf)
                     .unwrap_or_default();
                 let included = folder.join(&input);
-                let bytes = std::fs::read(&included).map_err(|e| {
-                    files.error(
+                let bytes = crate::text::read_bytes(&included).map_err(|e| match e {
+                    InputError::Read { cause, .. } => files.error(
                         loc,
-                        format!("*INCLUDE: cannot read '{}': {e}", included.display()),
-                    )
+                        format!("*INCLUDE: cannot read '{}': {cause}", included.display()),
+                    ),
+                    invalid => invalid,
                 })?;
+                if !expansion.seen.insert(included.clone()) {
+                    expansion.repeats += 1;
+                    expansion.repeated_bytes += bytes.len() as u64;
+                    if expansion.repeats > MAX_REPEATED_INCLUDES
+                        || expansion.repeated_bytes > MAX_REPEATED_BYTES
+                    {
+                        return Err(files.error(
+                            loc,
+                            format!(
+                                "*INCLUDE of '{input}': the deck's includes read files read \
+                                 before more than {MAX_REPEATED_INCLUDES} times or more than \
+                                 {MAX_REPEATED_BYTES} bytes (files that include each other \
+                                 several times over); include each file once",
+                                input = crate::text::excerpt(&input)
+                            ),
+                        ));
+                    }
+                }
                 let included_text = String::from_utf8_lossy(&bytes).into_owned();
                 files.paths.push(included);
                 let index = files.paths.len() - 1;
-                collect_lines(files, index, &included_text, depth + 1, out)?;
+                collect_lines(files, index, &included_text, depth + 1, expansion, out)?;
                 continue;
             }
         }

@@ -132,7 +132,10 @@ impl Reader<'_> {
             return super::cards::parse_id(field).ok_or_else(|| {
                 self.files.error(
                     loc,
-                    format!("*EQUATION: node should be a positive number, got '{field}'"),
+                    format!(
+                        "*EQUATION: node should be a positive number, got '{field}'",
+                        field = crate::text::excerpt(field)
+                    ),
                 )
             });
         }
@@ -165,7 +168,8 @@ impl Reader<'_> {
             self.files.error(
                 first.loc,
                 format!(
-                    "*MPC type '{kind_name}' is not supported (supported: BEAM, PLANE, STRAIGHT)"
+                    "*MPC type '{kind_name}' is not supported (supported: BEAM, PLANE, STRAIGHT)",
+                    kind_name = crate::text::excerpt(&kind_name)
                 ),
             )
         })?;
@@ -205,7 +209,10 @@ impl Reader<'_> {
                     super::cards::parse_id(v).ok_or_else(|| {
                         self.files.error(
                             card.loc,
-                            format!("*RIGID BODY: {key} should be a node number, got '{v}'"),
+                            format!(
+                                "*RIGID BODY: {key} should be a node number, got '{v}'",
+                                v = crate::text::excerpt(v)
+                            ),
                         )
                     })
                 })
@@ -261,7 +268,10 @@ impl Reader<'_> {
                     .ok_or_else(|| {
                         self.files.error(
                             card.loc,
-                            format!("*TIE: POSITION TOLERANCE should be a length >= 0, got '{v}'"),
+                            format!(
+                                "*TIE: POSITION TOLERANCE should be a length >= 0, got '{v}'",
+                                v = crate::text::excerpt(v)
+                            ),
                         )
                     })?,
             ),
@@ -465,7 +475,7 @@ pub(super) fn distributing(
                 vec![super::cards::parse_id(target).ok_or_else(|| {
                     files.error(
                         *loc,
-                        format!("*DISTRIBUTING COUPLING: node should be a positive number, got '{target}'"),
+                        format!("*DISTRIBUTING COUPLING: node should be a positive number, got '{target}'", target = crate::text::excerpt(target)),
                     )
                 })?]
             } else {
@@ -564,7 +574,10 @@ fn surface_faces(
             vec![super::cards::parse_id(target).ok_or_else(|| {
                 files.error(
                     *loc,
-                    format!("*SURFACE {surface}: bad element number '{target}'"),
+                    format!(
+                        "*SURFACE {surface}: bad element number '{target}'",
+                        target = crate::text::excerpt(target)
+                    ),
                 )
             })? as usize]
         } else {

@@ -14,8 +14,9 @@ use flexbody_fem::element::{element_types, ElementType, SectionKind};
 use flexbody_fem::{Dof, DofKind, Node, NodeId, Rayleigh};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-/// Most ids one `GENERATE` line may produce.
-const MAX_GENERATED: u64 = 50_000_000;
+/// Set entries held before their memory is first compared with the room
+/// left (then at every doubling): 4 Mi entries, about 100 MB.
+const SET_ENTRIES_UNCHECKED: usize = 1 << 22;
 
 /// Keywords that belong to the current `*MATERIAL` block.
 const MATERIAL_OPTIONS: &[&str] = &[
@@ -135,6 +136,21 @@ pub(super) struct Reader<'a> {
     pub(super) current_material: Option<usize>,
     steps: super::steps::Steps,
     instances: usize,
+    /// Data lines of the deck's `*NODE` and `*ELEMENT` cards: no more
+    /// nodes and elements than these can be defined, so no `GENERATE`
+    /// range of more numbers can name only defined ones.
+    definable: Definable,
+    /// Set entries added so far, and the count at which their memory is
+    /// compared with the room left next.
+    set_entries: std::cell::Cell<(usize, usize)>,
+}
+
+/// Upper bounds on the nodes and elements a deck defines: the data lines
+/// of its `*NODE` and `*ELEMENT` cards.
+#[derive(Copy, Clone, Debug, Default)]
+struct Definable {
+    nodes: usize,
+    elements: usize,
 }
 
 impl<'a> Reader<'a> {
@@ -177,11 +193,20 @@ impl<'a> Reader<'a> {
             current_material: None,
             steps: super::steps::Steps::default(),
             instances: 0,
+            definable: Definable::default(),
+            set_entries: std::cell::Cell::new((0, SET_ENTRIES_UNCHECKED)),
         }
     }
 
     /// Reads all cards in order.
     pub fn read(&mut self, cards: &[Card]) -> Result<(), InputError> {
+        for card in cards {
+            match card.keyword.as_str() {
+                "NODE" => self.definable.nodes += card.data.len(),
+                "ELEMENT" => self.definable.elements += card.data.len(),
+                _ => {}
+            }
+        }
         for card in cards {
             let k = card.keyword.as_str();
             if let StepAction::AfterFrequency = self.steps.see(self.files, card)? {
@@ -418,7 +443,8 @@ impl<'a> Reader<'a> {
                     self.error(
                         first.loc,
                         format!(
-                            "element {id}: node {k} should be a positive node number, got '{f}'"
+                            "element {id}: node {k} should be a positive node number, got '{f}'",
+                            f = crate::text::excerpt(f)
                         ),
                     )
                 })?;
@@ -510,8 +536,11 @@ impl<'a> Reader<'a> {
         );
     }
 
-    /// `first, last[, step]` of a `GENERATE` line.
-    fn generate(&self, line: &DataLine) -> Result<Vec<u64>, InputError> {
+    /// `first, last[, step]` of a `GENERATE` line of a set of `what`
+    /// (`node` or `element`). A range of more numbers than the deck can
+    /// define nodes (or elements) is refused before it is expanded: some of
+    /// its numbers would name none.
+    fn generate(&self, line: &DataLine, what: &str) -> Result<Vec<u64>, InputError> {
         let first = line.id(self.files, 0, "GENERATE: first number")?;
         let last = line.id(self.files, 1, "GENERATE: last number")?;
         let step = match line.get(2) {
@@ -525,13 +554,44 @@ impl<'a> Reader<'a> {
             ));
         }
         let count = (last - first) / step + 1;
-        if count > MAX_GENERATED {
+        let (definable, keyword) = match what {
+            "node" => (self.definable.nodes, "*NODE"),
+            _ => (self.definable.elements, "*ELEMENT"),
+        };
+        if count > definable as u64 {
             return Err(self.error(
                 line.loc,
-                format!("GENERATE: {count} numbers is more than the {MAX_GENERATED} accepted"),
+                format!(
+                    "GENERATE: {first} to {last} in steps of {step} is {count} {what} numbers, \
+                     but the deck's {keyword} cards have {definable} data lines, so it defines \
+                     at most {definable} {what}s: a set lists only {what}s of the model"
+                ),
             ));
         }
+        self.room_for_set_entries(count as usize, line.loc)?;
         Ok((0..count).map(|i| first + i * step).collect())
+    }
+
+    /// `more` set entries, or an error when all set entries together
+    /// would not fit in the memory left ([`DeckOptions::memory`]); looked
+    /// at from [`SET_ENTRIES_UNCHECKED`] entries on, at every doubling.
+    fn room_for_set_entries(&self, more: usize, loc: Loc) -> Result<(), InputError> {
+        let (held, next_check) = self.set_entries.get();
+        let total = held.saturating_add(more);
+        let mut next = next_check;
+        if total >= next_check {
+            let bytes = total.saturating_mul(std::mem::size_of::<(u64, Loc)>());
+            self.options
+                .memory
+                .ensure(
+                    bytes as u64,
+                    &format!("the deck's set entries ({total} node and element numbers)"),
+                )
+                .map_err(|e| self.error(loc, e.to_string()))?;
+            next = total.saturating_mul(2);
+        }
+        self.set_entries.set((total, next));
+        Ok(())
     }
 
     /// Ids and set names of a `*NSET` or `*ELSET` card.
@@ -545,20 +605,24 @@ impl<'a> Reader<'a> {
         let generate = card.has("GENERATE");
         for line in &card.data {
             if generate {
-                entries.extend(self.generate(line)?.into_iter().map(|id| (id, line.loc)));
+                entries.extend(
+                    self.generate(line, what)?
+                        .into_iter()
+                        .map(|id| (id, line.loc)),
+                );
                 continue;
             }
             for f in line.fields.iter().filter(|f| !f.is_empty()) {
                 if is_numeric(f) {
-                    let id = super::cards::parse_id(f).ok_or_else(|| {
-                        self.error(
-                            line.loc,
-                            format!(
+                    let id =
+                        super::cards::parse_id(f).ok_or_else(|| {
+                            self.error(
+                                line.loc,
+                                format!(
                                 "{} should list positive {what} numbers or set names, got '{f}'",
-                                card.display
-                            ),
-                        )
-                    })?;
+                                card.display, f = crate::text::excerpt(f)),
+                            )
+                        })?;
                     entries.push((id, line.loc));
                 } else {
                     let other = lookup(&name(f)).ok_or_else(|| {
@@ -570,6 +634,7 @@ impl<'a> Reader<'a> {
                             ),
                         )
                     })?;
+                    self.room_for_set_entries(other.len(), line.loc)?;
                     entries.extend(other);
                 }
             }
@@ -684,7 +749,10 @@ impl<'a> Reader<'a> {
                 other => {
                     return Err(self.error(
                         line.loc,
-                        format!("*BOUNDARY: unknown boundary type '{other}'"),
+                        format!(
+                            "*BOUNDARY: unknown boundary type '{other}'",
+                            other = crate::text::excerpt(other)
+                        ),
                     ))
                 }
             };
@@ -746,7 +814,10 @@ impl<'a> Reader<'a> {
                         .ok_or_else(|| {
                             self.error(
                                 line.loc,
-                                format!("*SURFACE {name}: face '{face}' should be S1 to S6"),
+                                format!(
+                                    "*SURFACE {name}: face '{face}' should be S1 to S6",
+                                    face = crate::text::excerpt(&face)
+                                ),
                             )
                         })?;
                     faces.push((target.to_string(), number, line.loc));

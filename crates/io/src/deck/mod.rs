@@ -134,10 +134,7 @@ pub struct SurfaceFaces {
 
 /// Reads and checks a deck file.
 pub fn read_deck(path: &Path, options: &DeckOptions) -> Result<Deck, InputError> {
-    let bytes = std::fs::read(path).map_err(|source| InputError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let bytes = crate::text::read_bytes(path)?;
     parse_deck(path, &String::from_utf8_lossy(&bytes), options)
 }
 

@@ -214,7 +214,13 @@ impl Reader<'_> {
             };
             let what = format!("*DAMPING of material '{name}': {key}");
             let x = super::cards::parse_float(v).ok_or_else(|| {
-                files.error(card.loc, format!("{what} should be a number, got '{v}'"))
+                files.error(
+                    card.loc,
+                    format!(
+                        "{what} should be a number, got '{v}'",
+                        v = crate::text::excerpt(v)
+                    ),
+                )
             })?;
             flexbody_fem::require_non_negative(what, x)
                 .map_err(|e| files.error(card.loc, e.to_string()))

@@ -56,7 +56,11 @@ pub(super) fn model_temperature(
                 let set = node_sets.get(&super::cards::name(target)).ok_or_else(|| {
                     files.error(
                         line.loc,
-                        format!("{}: node set '{target}' is not defined", card.display),
+                        format!(
+                            "{}: node set '{target}' is not defined",
+                            card.display,
+                            target = crate::text::excerpt(target)
+                        ),
                     )
                 })?;
                 covered.extend(set.iter().map(|(n, _)| *n));

@@ -13,6 +13,11 @@ pub struct DeckOptions {
     /// Skip unknown keywords (collected in [`Deck::unknown`](super::Deck))
     /// instead of refusing the deck.
     pub allow_unknown: bool,
+    /// The memory the reading may take (the command line's
+    /// `--max-memory`): set entries, `GENERATE` ranges and the elements of
+    /// a model file's `[[beam_line]]`s are compared with it before they
+    /// are stored.
+    pub memory: flexbody_linalg::memory::Budget,
 }
 
 /// An unknown keyword skipped under [`DeckOptions::allow_unknown`].

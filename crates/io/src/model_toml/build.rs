@@ -53,7 +53,7 @@ pub(crate) fn build(
         let (id, x, y, z) = *n.get_ref();
         b.add_node(id, [x, y, z], n.span().start)?;
     }
-    b.beam_lines(raw)?;
+    b.beam_lines(raw, &options.memory)?;
     let (unknown, mut warnings, notes) = match &raw.mesh {
         Some(mesh) => b.deck_mesh(mesh, options)?,
         None => (UnknownKeywords::default(), Vec::new(), Vec::new()),

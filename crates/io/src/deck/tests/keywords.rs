@@ -81,6 +81,7 @@ fn allowed_unknown_keywords_are_skipped_and_listed_once_each() {
         + "*FOO BAR\n1, 2\n*BOUNDRY\n3, 1, 6\n*STEP\n*FREQUENCY\n5\n*END STEP\n*FOO BAR\n";
     let allow = DeckOptions {
         allow_unknown: true,
+        ..DeckOptions::default()
     };
     let deck = parse_deck(Path::new("test.inp"), &text, &allow).unwrap();
     let strict = parse(BEAM).unwrap();
@@ -350,4 +351,33 @@ fn no_panic_on_garbled_decks() {
             }
         }
     }
+}
+
+#[test]
+fn set_entries_beyond_the_memory_budget_are_refused_before_they_are_stored() {
+    // Set B copies set A 2.1 million times: 4.2 million entries, where the
+    // memory check starts.
+    let mut text = BEAM.to_string() + "*NSET, NSET=A\n1, 2\n*NSET, NSET=B\n";
+    let line = "A, A, A, A, A, A, A, A, A, A, A, A, A, A, A, A\n";
+    for _ in 0..131_250 {
+        text.push_str(line);
+    }
+    let none_left = DeckOptions {
+        memory: flexbody_linalg::memory::Budget::at_most(Some(1)),
+        ..DeckOptions::default()
+    };
+    let e = parse_deck(Path::new("sets.inp"), &text, &none_left)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("sets.inp:")
+            && e.contains(
+                "the deck's set entries (4194304 node and element numbers) needs 96.0 MiB"
+            )
+            && e.contains("--max-memory"),
+        "{e}"
+    );
+    // Within the machine's memory the same deck reads.
+    let deck = parse_deck(Path::new("sets.inp"), &text, &DeckOptions::default()).unwrap();
+    assert_eq!(deck.model.node_sets()["B"], vec![1, 2]);
 }

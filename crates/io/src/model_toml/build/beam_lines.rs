@@ -11,7 +11,14 @@ use crate::model_toml::raw::{BeamKind, RawBeamLine, RawModel};
 use crate::InputError;
 use flexbody_fem::element::{Beam, PlanarBeam};
 use flexbody_fem::{BeamTheory, Element};
+use flexbody_linalg::memory::Budget;
 use toml::Spanned;
+
+/// The memory one beam element takes at least, from its line to the
+/// assembled model: the element and its node, and its share of the
+/// columns of K and M. A line of more elements than the memory left holds
+/// at this size is refused before any is made.
+pub(crate) const BEAM_ELEMENT_BYTES: u64 = 4096;
 
 /// Two points closer than this times the diagonal of the bounding box of
 /// the explicit nodes and the lines' end points are the same point.
@@ -20,7 +27,19 @@ pub(crate) const RELATIVE_TOLERANCE: f64 = 1e-6;
 impl Builder<'_> {
     /// Every `[[beam_line]]` in order: its nodes (shared or new), its
     /// elements and its node set.
-    pub(super) fn beam_lines(&mut self, raw: &RawModel) -> Result<(), InputError> {
+    pub(super) fn beam_lines(&mut self, raw: &RawModel, memory: &Budget) -> Result<(), InputError> {
+        let mut total: u64 = 0;
+        for line in &raw.beam_line {
+            total = total.saturating_add(line.get_ref().elements as u64);
+            memory
+                .ensure(
+                    total.saturating_mul(BEAM_ELEMENT_BYTES),
+                    &format!(
+                        "beam_line: {total} beam elements (at least {BEAM_ELEMENT_BYTES} bytes each)"
+                    ),
+                )
+                .map_err(|e| self.src.at(line, e.to_string()))?;
+        }
         let ends = raw
             .beam_line
             .iter()
