@@ -29,8 +29,10 @@ pub const WITHOUT_LINE: &[&str] = &[
     // line it would have in the DOF file;
     "no diagonal entry for equation",
     // CalculiX and Matrix Market: a matrix whose size differs from the DOF
-    // file's names both files.
+    // file's names both files;
     "the matrix has",
+    // Matrix Market: a file that ends before its size line.
+    "no `rows cols entries` line",
 ];
 
 /// Panics unless `message` (an error's Display) names one of the
