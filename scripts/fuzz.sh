@@ -68,8 +68,8 @@ for t in "${targets[@]}"; do
         -max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 \
         -max_len=65536 -dict="$work/$t.dict" -print_final_stats=1 \
         -artifact_prefix="$artifacts/" "$corpus" "$seeds/$t" >"$log" 2>&1 || status=$?
-    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
-    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
     if [ "$status" -eq 0 ]; then
         echo "fuzz: $t: ${runs:-?} runs (${rate:-?}/s), no finding"
     else
