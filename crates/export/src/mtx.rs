@@ -175,6 +175,16 @@ pub fn read_matrix(path: &Path) -> Result<Mat<f64>, ExportError> {
     })
 }
 
+/// A matrix entry: a number, and finite (Rust's float parsing takes `nan`,
+/// `inf` and `1e999` as numbers).
+fn finite_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err(format!("'{text}' is not a finite number")),
+        Err(_) => Err(format!("'{text}' is not a number")),
+    }
+}
+
 fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let (_, header) = lines.next().ok_or((1, "empty file".to_string()))?;
@@ -230,9 +240,7 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
         let mut count = 0;
         for (n, l) in body {
             last = n;
-            let v: f64 = l
-                .parse()
-                .map_err(|_| (n, format!("'{l}' is not a number")))?;
+            let v = finite_number(l).map_err(|message| (n, message))?;
             if count >= want {
                 return Err((
                     n,
@@ -276,10 +284,11 @@ fn parse_matrix(text: &str) -> Result<Mat<f64>, (usize, String)> {
                 (Ok(i), Ok(j)) if i >= 1 && j >= 1 && i <= nrows && j <= ncols => (i, j),
                 _ => return Err((n, format!("entry ({i}, {j}) is outside {nrows} x {ncols}"))),
             };
-            let v: f64 = v
-                .parse()
-                .map_err(|_| (n, format!("'{v}' is not a number")))?;
+            let v = finite_number(v).map_err(|message| (n, message))?;
             m[(i - 1, j - 1)] += v;
+            if !m[(i - 1, j - 1)].is_finite() {
+                return Err((n, format!("entry ({i}, {j}) is not finite: its values add up beyond the range of a float")));
+            }
             if symmetric && i != j {
                 m[(j - 1, i - 1)] += v;
             }
@@ -390,6 +399,23 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_matrix_entry_that_is_not_finite_is_refused_at_its_line() {
+        let array = "%%MatrixMarket matrix array real general\n1 2\n1.0\n";
+        for bad in ["1e510", "inf", "-inf", "nan"] {
+            let (line, message) = super::parse_matrix(&format!("{array}{bad}\n")).unwrap_err();
+            assert_eq!(line, 4, "{bad}: {message}");
+            assert!(message.contains("not a finite number"), "{message}");
+        }
+        let coordinate =
+            "%%MatrixMarket matrix coordinate real general\n1 1 2\n1 1 1e308\n1 1 1e308\n";
+        let (line, message) = super::parse_matrix(coordinate).unwrap_err();
+        assert_eq!(line, 4, "{message}");
+        assert!(message.contains("entry (1, 1) is not finite"), "{message}");
+        let fine = "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 -0\n";
+        assert!(super::parse_matrix(fine).is_ok());
+    }
+
     use super::*;
 
     #[test]
