@@ -190,6 +190,19 @@ fn read_matrix_of(path: &Path, shape: Option<(usize, usize)>) -> Result<Mat<f64>
 const MIN_VALUE_BYTES: usize = 2;
 const MIN_ENTRY_BYTES: usize = 6;
 
+/// A matrix entry: a number, finite and at most
+/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude (Rust's
+/// float parsing takes `nan`, `inf` and `1e999` as numbers).
+fn finite_number(text: &str) -> Result<f64, String> {
+    let largest = flexbody_linalg::dense_check::LARGEST;
+    match text.parse::<f64>() {
+        Ok(v) if v.abs() <= largest => Ok(v),
+        Ok(v) if v.is_finite() => Err(format!("{v:e} is beyond {largest:e} in magnitude")),
+        Ok(_) => Err(format!("'{}' is not a finite number", excerpt(text))),
+        Err(_) => Err(format!("'{}' is not a number", excerpt(text))),
+    }
+}
+
 fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (usize, String)> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
     let (_, header) = lines.next().ok_or((1, "empty file".to_string()))?;
@@ -312,11 +325,7 @@ fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (
         let mut count = 0;
         for (n, l) in body {
             last = n;
-            let v: f64 = l
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| (n, format!("'{l}' is not a finite number", l = excerpt(l))))?;
+            let v = finite_number(l).map_err(|message| (n, message))?;
             if count >= want {
                 return Err((
                     n,
@@ -360,12 +369,11 @@ fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (
                 (Ok(i), Ok(j)) if i >= 1 && j >= 1 && i <= nrows && j <= ncols => (i, j),
                 _ => return Err((n, format!("entry ({i}, {j}) is outside {nrows} x {ncols}"))),
             };
-            let v: f64 = v
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| (n, format!("'{v}' is not a finite number", v = excerpt(v))))?;
+            let v = finite_number(v).map_err(|message| (n, message))?;
             m[(i - 1, j - 1)] += v;
+            if !m[(i - 1, j - 1)].is_finite() {
+                return Err((n, format!("entry ({i}, {j}) is not finite: its values add up beyond the range of a float")));
+            }
             if symmetric && i != j {
                 m[(j - 1, i - 1)] += v;
             }
@@ -473,6 +481,24 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_matrix_entry_that_is_not_finite_is_refused_at_its_line() {
+        let array = "%%MatrixMarket matrix array real general\n1 2\n1.0\n";
+        for bad in ["1e510", "inf", "-inf", "nan"] {
+            let (line, message) =
+                super::parse_matrix(&format!("{array}{bad}\n"), None).unwrap_err();
+            assert_eq!(line, 4, "{bad}: {message}");
+            assert!(message.contains("not a finite number"), "{message}");
+        }
+        let coordinate =
+            "%%MatrixMarket matrix coordinate real general\n1 1 2\n1 1 1e100\n1 1 1e308\n";
+        let (line, message) = super::parse_matrix(coordinate, None).unwrap_err();
+        assert_eq!(line, 4, "{message}");
+        assert!(message.contains("1e308 is beyond 1e100"), "{message}");
+        let fine = "%%MatrixMarket matrix coordinate real general\n1 1 1\n1 1 -0\n";
+        assert!(super::parse_matrix(fine, None).is_ok());
+    }
+
     use super::*;
 
     #[test]

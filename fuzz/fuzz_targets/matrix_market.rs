@@ -1,0 +1,28 @@
+//! `flexbody_io::matrices::read_matrix_market`: K (`k.mtx`, the main
+//! file), M (`m.mtx`) and the DOF list (`dofs.txt`). Accepted matrices
+//! must have finite entries.
+#![no_main]
+
+use flexbody::io::matrices::read_matrix_market;
+use flexbody_fuzz::{error_located, finite_debug, finite_values, Bundle, Lines};
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(
+    init: flexbody_fuzz::alloc_limit::set_memory_limit_from_env(),
+    |data: &[u8]| {
+        let bundle = Bundle::unpack(data, "k.mtx");
+        let read = read_matrix_market(
+            &bundle.main,
+            &bundle.path("m.mtx"),
+            &bundle.path("dofs.txt"),
+        );
+        match read {
+            Ok(model) => {
+                finite_values("K", model.stiffness.val());
+                finite_values("M", model.mass.val());
+                finite_debug("the DOF map", &model.dof_map);
+            }
+            Err(e) => error_located(&e.to_string(), &bundle.dir, Lines::Required),
+        }
+    }
+);
