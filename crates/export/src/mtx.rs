@@ -20,7 +20,7 @@ use crate::float_text::push_exp;
 use crate::{ExportError, FileSet};
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
-use flexbody_io::text::excerpt;
+use flexbody_io::text::{excerpt, finite_number};
 use flexbody_linalg::memory::Budget;
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
 use serde::{Deserialize, Serialize};
@@ -189,19 +189,6 @@ fn read_matrix_of(path: &Path, shape: Option<(usize, usize)>) -> Result<Mat<f64>
 /// line of a coordinate file (`1 1 0` and a newline).
 const MIN_VALUE_BYTES: usize = 2;
 const MIN_ENTRY_BYTES: usize = 6;
-
-/// A matrix entry: a number, finite and at most
-/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude (Rust's
-/// float parsing takes `nan`, `inf` and `1e999` as numbers).
-fn finite_number(text: &str) -> Result<f64, String> {
-    let largest = flexbody_linalg::dense_check::LARGEST;
-    match text.parse::<f64>() {
-        Ok(v) if v.abs() <= largest => Ok(v),
-        Ok(v) if v.is_finite() => Err(format!("{v:e} is beyond {largest:e} in magnitude")),
-        Ok(_) => Err(format!("'{}' is not a finite number", excerpt(text))),
-        Err(_) => Err(format!("'{}' is not a number", excerpt(text))),
-    }
-}
 
 fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (usize, String)> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));

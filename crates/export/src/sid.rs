@@ -27,7 +27,7 @@
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::{Mat, MatRef};
-use flexbody_io::text::excerpt;
+use flexbody_io::text::{excerpt, finite_number};
 use flexbody_linalg::memory::Budget;
 use flexbody_reduce::ffrf::FloatingFrame;
 use std::io::{self, Write};
@@ -447,18 +447,6 @@ impl<'a> Lines<'a> {
     }
 }
 
-/// A value of an entry: a finite number at most
-/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude.
-fn number(v: &str) -> Result<f64, String> {
-    let largest = flexbody_linalg::dense_check::LARGEST;
-    match v.parse::<f64>() {
-        Ok(x) if x.is_finite() && x.abs() <= largest => Ok(x),
-        Ok(x) if x.is_finite() => Err(format!("{x:e} is beyond {largest:e} in magnitude")),
-        Ok(_) => Err(format!("'{}' is not a finite number", excerpt(v))),
-        Err(_) => Err(format!("'{}' is not a number", excerpt(v))),
-    }
-}
-
 fn key_value(l: &str) -> Option<(&str, &str)> {
     let (k, v) = l.split_once('=')?;
     Some((k.trim(), v.trim()))
@@ -525,7 +513,7 @@ fn parse_taylor(
         }
         let (kind, idx) =
             indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'", k = excerpt(k))))?;
-        let value = number(v).map_err(|m| err(n, m))?;
+        let value = finite_number(v).map_err(|m| err(n, m))?;
         match (kind, idx.as_slice()) {
             ("m0", [i, j]) => m0.push((n, *i, *j, value)),
             ("m1", [i, j, k]) => m1.push((n, *i, *j, *k, value)),
@@ -683,7 +671,7 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             )
         })?;
         if k.eq_ignore_ascii_case("mass") {
-            let m = number(v).map_err(|m| bad(n, format!("mass: {m}")))?;
+            let m = finite_number(v).map_err(|m| bad(n, format!("mass: {m}")))?;
             if m <= 0.0 || mass.is_some() {
                 let why = if m <= 0.0 {
                     "is not positive"

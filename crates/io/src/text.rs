@@ -47,6 +47,20 @@ fn excerpt_of(head: &str, bytes: usize) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// A number of an input file: finite and at most
+/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude (Rust's
+/// float parsing takes `nan`, `inf` and `1e999` as numbers); the error
+/// quotes an [`excerpt`] of `text`.
+pub fn finite_number(text: &str) -> Result<f64, String> {
+    let largest = flexbody_linalg::dense_check::LARGEST;
+    match text.parse::<f64>() {
+        Ok(v) if v.abs() <= largest => Ok(v),
+        Ok(v) if v.is_finite() => Err(format!("{v:e} is beyond {largest:e} in magnitude")),
+        Ok(_) => Err(format!("'{}' is not a finite number", excerpt(text))),
+        Err(_) => Err(format!("'{}' is not a number", excerpt(text))),
+    }
+}
+
 /// The bytes of the file at `path`; an error names the file and, for a
 /// line longer than [`MAX_LINE_BYTES`], the line with an [`excerpt`].
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, InputError> {
