@@ -156,10 +156,7 @@ pub fn read_model_file(path: &Path) -> Result<ModelFile, InputError> {
 
 /// Reads and checks a model file, its `mesh` deck read with `options`.
 pub fn read_model_file_with(path: &Path, options: &DeckOptions) -> Result<ModelFile, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = flexbody_io::text::read_text(path)?;
     parse_model_file_with(path, &text, options)
 }
 

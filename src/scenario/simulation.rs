@@ -175,10 +175,7 @@ fn force(
 /// Reads a track profile: one `s, z` row per line (m), `#` comments and a
 /// header line allowed, s strictly ascending.
 pub fn read_profile(path: &Path) -> Result<Profile, InputError> {
-    let text = std::fs::read_to_string(path).map_err(|source| InputError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = flexbody_io::text::read_text(path)?;
     let bad = |line: usize, message: String| InputError::Invalid {
         path: path.to_path_buf(),
         line: Some(line),

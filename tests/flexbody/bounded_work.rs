@@ -173,6 +173,44 @@ fn a_file_of_two_gib_of_nul_bytes_is_refused_after_its_first_mib() {
         500,
         100,
     );
+    // The same for a model file and for the track profile it names.
+    let huge = |name: &str| {
+        let f = std::fs::File::create(dir.path().join(name)).unwrap();
+        f.set_len(2 << 30).unwrap();
+    };
+    huge("model.toml");
+    let run = run_within(dir.path(), &["modes", "model.toml"], MINUTE);
+    refused(&run, &["model.toml:1: the line is at least"], 500, 100);
+    let vehicle =
+        example("vehicle.toml").replace("[simulation]", "[simulation]\nprofile = \"profile.csv\"");
+    write(dir.path(), "vehicle.toml", &vehicle);
+    huge("profile.csv");
+    let run = run_within(
+        dir.path(),
+        &["simulate", "vehicle.toml", "--out", "run"],
+        MINUTE,
+    );
+    refused(&run, &["profile.csv:1: the line is at least"], 500, 100);
+}
+
+#[test]
+fn a_deck_name_longer_than_80_characters_is_refused_with_an_excerpt() {
+    let dir = tempfile::tempdir().unwrap();
+    // A material name of 1 MB was quoted whole by "material '...' is not
+    // defined".
+    let name = "M".repeat(1_000_000);
+    let deck = format!(
+        "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n*ELEMENT, TYPE=B31, ELSET=E\n1, 1, 2\n\
+         *BEAM SECTION, ELSET=E, MATERIAL={name}, SECTION=RECT\n0.1, 0.1\n"
+    );
+    write(dir.path(), "long.inp", &deck);
+    let run = run_within(dir.path(), &["modes", "long.inp"], MINUTE);
+    refused(
+        &run,
+        &["long.inp:6:", "is longer than 80 characters"],
+        400,
+        200,
+    );
 }
 
 #[test]
@@ -338,4 +376,31 @@ fn an_include_tree_that_expands_without_end_is_refused() {
         600,
         300,
     );
+}
+
+#[test]
+fn a_device_or_a_pipe_named_by_an_input_is_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // /dev/urandom has no end (its lines are short, so only memory would
+    // stop the read); a pipe or a terminal as /dev/stdin waits for input.
+    write(dir.path(), "random.inp", "*INCLUDE, INPUT=/dev/urandom\n");
+    let run = run_within(dir.path(), &["modes", "random.inp"], MINUTE);
+    refused(
+        &run,
+        &[
+            "random.inp:1: *INCLUDE: cannot read '/dev/urandom'",
+            "not a regular file",
+        ],
+        400,
+        100,
+    );
+    let model = example("side_beam_solid.toml");
+    let mesh_line = model.lines().find(|l| l.starts_with("mesh =")).unwrap();
+    write(
+        dir.path(),
+        "stdin.toml",
+        &model.replacen(mesh_line, "mesh = \"/dev/stdin\"", 1),
+    );
+    let run = run_within(dir.path(), &["modes", "stdin.toml"], MINUTE);
+    refused(&run, &["/dev/stdin", "not a regular file"], 400, 100);
 }

@@ -181,10 +181,7 @@ pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     if path.is_dir() {
         return mtx::read_mtx(path).map(|b| AnyBody::Reduced(Box::new(b)));
     }
-    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = crate::read_json_text(path)?;
     let first = text
         .lines()
         .map(str::trim)

@@ -76,7 +76,23 @@ pub enum ExportError {
 /// The text of the body file at `path`, read with a bound on its line
 /// length ([`flexbody_io::text::read_text`]).
 pub(crate) fn read_text(path: &Path) -> Result<String, ExportError> {
-    flexbody_io::text::read_text(path).map_err(|e| match e {
+    flexbody_io::text::read_text(path).map_err(from_input_error)
+}
+
+/// The text of a JSON body file: read whole, as another program may write
+/// JSON on one line, but only from a regular file
+/// ([`flexbody_io::text::regular_file`]).
+pub(crate) fn read_json_text(path: &Path) -> Result<String, ExportError> {
+    flexbody_io::text::regular_file(path).map_err(from_input_error)?;
+    std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        path: path.to_path_buf(),
+        cause: source,
+    })
+}
+
+/// A reader's error as the body readers give it.
+fn from_input_error(e: flexbody_io::InputError) -> ExportError {
+    match e {
         flexbody_io::InputError::Read { path, cause } => ExportError::Read { path, cause },
         flexbody_io::InputError::Invalid {
             path,
@@ -89,7 +105,7 @@ pub(crate) fn read_text(path: &Path) -> Result<String, ExportError> {
                 None => message,
             },
         },
-    })
+    }
 }
 
 /// The temporary file beside `path` that [`write_atomically`] writes and
@@ -428,10 +444,7 @@ pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a JSON reduced body written by [`write_json`].
 pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
-        path: path.to_path_buf(),
-        cause: source,
-    })?;
+    let text = read_json_text(path)?;
     let doc: BodyFile = serde_json::from_str(&text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: format!(

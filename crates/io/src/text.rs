@@ -61,13 +61,33 @@ pub fn finite_number(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Refuses to read `path` unless it is a regular file (or a link to one)
+/// or a folder: a device (`/dev/urandom` never ends, `/dev/tty` waits for
+/// a user), a pipe (`/dev/stdin`, which a deck's `*INCLUDE` could name)
+/// or a socket is not read. A path that does not exist passes: opening it
+/// says so.
+pub fn regular_file(path: &Path) -> Result<(), InputError> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => Err(InputError::Read {
+            path: path.to_path_buf(),
+            cause: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file (a device, a pipe or a socket); inputs are read from files",
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// The bytes of the file at `path`; an error names the file and, for a
 /// line longer than [`MAX_LINE_BYTES`], the line with an [`excerpt`].
+/// Only a regular file is read ([`regular_file`]).
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, InputError> {
     let read_error = |cause| InputError::Read {
         path: path.to_path_buf(),
         cause,
     };
+    regular_file(path)?;
     let mut file = std::fs::File::open(path).map_err(read_error)?;
     let size = file.metadata().map_or(0, |m| m.len());
     let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0).saturating_add(1));
@@ -187,6 +207,18 @@ mod tests {
         assert!(e.contains("'\\0\\0\\0"), "{e}");
         assert!(e.len() < 500, "{} bytes", e.len());
         let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn devices_and_pipes_are_not_read() {
+        // /dev/urandom would be read without end, /dev/stdin a pipe or a
+        // terminal waiting for input.
+        for device in ["/dev/urandom", "/dev/null"] {
+            let e = read_bytes(Path::new(device)).unwrap_err().to_string();
+            assert!(e.contains("not a regular file"), "{e}");
+        }
+        let e = read_bytes(Path::new("/no/such/file")).unwrap_err();
+        assert!(!e.to_string().contains("regular"), "{e}");
     }
 
     fn tempdir(name: &str) -> std::path::PathBuf {

@@ -20,6 +20,12 @@ pub const MAX_REPEATED_INCLUDES: usize = 10_000;
 /// (1 GB). The first read of each file does not count.
 pub const MAX_REPEATED_BYTES: u64 = 1_000_000_000;
 
+/// The longest name or data field a deck may hold (80 characters, the
+/// length of a label in Abaqus and CalculiX). Longer ones are refused as
+/// the deck is split into cards, so that no message quotes a long name.
+/// File names (`INPUT=`) and the text of `*HEADING` are exempt.
+pub const MAX_FIELD_CHARS: usize = 80;
+
 /// Where a line comes from: the file (index into [`Files::paths`]) and the
 /// 1-based line number.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -349,6 +355,14 @@ fn split_cards(files: &Files, lines: &[(Loc, String)]) -> Result<Vec<Card>, Inpu
             if keyword.is_empty() {
                 return Err(files.error(*loc, "a keyword line needs a keyword after '*'"));
             }
+            let long = params
+                .iter()
+                .filter(|p| p.key != "INPUT")
+                .flat_map(|p| std::iter::once(p.key.as_str()).chain(p.value.as_deref()))
+                .find(|v| v.chars().count() > MAX_FIELD_CHARS);
+            if let Some(v) = long {
+                return Err(too_long(files, *loc, &display, v));
+            }
             cards.push(Card {
                 keyword,
                 display,
@@ -374,7 +388,30 @@ fn split_cards(files: &Files, lines: &[(Loc, String)]) -> Result<Vec<Card>, Inpu
             .map(|(loc, text)| parse_data(*loc, text))
             .collect();
     });
+    for card in cards.iter().filter(|c| c.keyword != "HEADING") {
+        for line in &card.data {
+            if let Some(f) = line
+                .fields
+                .iter()
+                .find(|f| f.len() > MAX_FIELD_CHARS && f.chars().count() > MAX_FIELD_CHARS)
+            {
+                return Err(too_long(files, line.loc, &card.display, f));
+            }
+        }
+    }
     Ok(cards)
+}
+
+/// The error for a name or field longer than [`MAX_FIELD_CHARS`].
+fn too_long(files: &Files, loc: Loc, keyword: &str, field: &str) -> InputError {
+    files.error(
+        loc,
+        format!(
+            "{keyword}: '{}' is longer than {MAX_FIELD_CHARS} characters, the most a \
+             name or field of a deck may have",
+            crate::text::excerpt(field)
+        ),
+    )
 }
 
 /// Splits `*KEYWORD, KEY=value, FLAG` into the matched keyword (no spaces),
@@ -451,6 +488,23 @@ mod tests {
         let (_, cards) = read_cards(Path::new("a.inp"), text).unwrap();
         assert_eq!(cards[0].value("ELSET"), Some("E1"));
         assert_eq!(cards[0].data.len(), 1);
+    }
+
+    #[test]
+    fn names_and_fields_longer_than_80_characters_are_refused() {
+        let name = "N".repeat(81);
+        for text in [
+            format!("*NSET, NSET={name}\n1\n"),
+            format!("*NSET, NSET=A\n1, {name}\n"),
+        ] {
+            let e = read_cards(Path::new("a.inp"), &text)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("longer than 80 characters"), "{e}");
+            assert!(e.len() < 300, "the message quotes an excerpt: {e}");
+        }
+        let ok = format!("*HEADING\n{name}\n*NSET, NSET={}\n1\n", "N".repeat(80));
+        read_cards(Path::new("a.inp"), &ok).unwrap();
     }
 
     #[test]
