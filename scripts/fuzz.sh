@@ -19,6 +19,11 @@
 # FLEXBODY_FUZZ_DIR, default $CARGO_TARGET_DIR/fuzz or target/fuzz.
 # FLEXBODY_BIN names a built `flexbody` for the seeds (default: built
 # here, in the dev profile).
+#
+# A long campaign (docs/testing.md): FLEXBODY_FUZZ_RUNS=N stops each target
+# after N inputs (SECONDS_PER_TARGET stays the cap), and FLEXBODY_FUZZ_OPT=2
+# builds every crate at that optimisation level, for several times the
+# inputs per second after a longer build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -37,13 +42,23 @@ work="${FLEXBODY_FUZZ_DIR:-$target_dir/fuzz}"
 triple="$(rustc -vV | sed -n 's/^host: //p')"
 mkdir -p "$work"
 
+opt=()
+if [ -n "${FLEXBODY_FUZZ_OPT:-}" ]; then
+    opt=(--config "profile.release.opt-level=$FLEXBODY_FUZZ_OPT"
+        --config "profile.release.package.\"*\".opt-level=$FLEXBODY_FUZZ_OPT")
+fi
+runs_limit=()
+if [ -n "${FLEXBODY_FUZZ_RUNS:-}" ]; then
+    runs_limit=(-runs="$FLEXBODY_FUZZ_RUNS")
+fi
+
 start=$(date +%s)
 # Instrumented as `cargo fuzz build --sanitizer none` would, but only the
 # crates the readers run (scripts/fuzz_rustc.sh); --target keeps the
 # flags off build scripts and proc macros. The fuzz crate's release profile
 # keeps debug assertions and overflow checks.
 RUSTC_WRAPPER="$PWD/scripts/fuzz_rustc.sh" \
-    cargo build --quiet --release --locked --manifest-path fuzz/Cargo.toml \
+    cargo build --quiet --release --locked "${opt[@]}" --manifest-path fuzz/Cargo.toml \
     --target "$triple" --target-dir "$target_dir"
 # The command writes the body seeds (built by the tests already in CI).
 flexbody="${FLEXBODY_BIN:-$target_dir/debug/flexbody}"
@@ -65,7 +80,7 @@ for t in "${targets[@]}"; do
     cat "fuzz/dict/$t.dict" fuzz/dict/numbers.dict >"$work/$t.dict"
     status=0
     RAYON_NUM_THREADS=1 RUST_BACKTRACE=0 "$target_dir/$triple/release/$t" \
-        -max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 \
+        -max_total_time="$seconds" "${runs_limit[@]}" -timeout=1 -rss_limit_mb=2048 \
         -max_len=65536 -dict="$work/$t.dict" -print_final_stats=1 \
         -artifact_prefix="$artifacts/" "$corpus" "$seeds/$t" >"$log" 2>&1 || status=$?
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
