@@ -303,33 +303,9 @@ fn message(e: &anyhow::Error) -> String {
         if !out.is_empty() {
             out.push_str(": ");
         }
-        out.push_str(&shortened(&text));
+        out.push_str(&flexbody::io::text::shortened(&text));
     }
     out
-}
-
-/// `text`, or its first and last few hundred bytes when it is longer than
-/// [`MESSAGE_BYTES`], saying how much was left out.
-fn shortened(text: &str) -> std::borrow::Cow<'_, str> {
-    const MESSAGE_BYTES: usize = 1000;
-    if text.len() <= MESSAGE_BYTES {
-        return text.into();
-    }
-    let mut head = 600;
-    while !text.is_char_boundary(head) {
-        head -= 1;
-    }
-    let mut tail = text.len() - 300;
-    while !text.is_char_boundary(tail) {
-        tail += 1;
-    }
-    format!(
-        "{} [... {} bytes left out ...] {}",
-        &text[..head],
-        tail - head,
-        &text[tail..]
-    )
-    .into()
 }
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {

@@ -35,7 +35,13 @@ pub const WITHOUT_LINE: &[&str] = &[
     "no `rows cols entries` line",
 ];
 
-/// Panics unless `message` (an error's Display) names one of the
+/// The longest error message without its paths: the readers' own
+/// bound and a little more (a message names a file more than once, each
+/// time with a line).
+pub const MESSAGE_BYTES: usize = flexbody::io::text::MESSAGE_BYTES + 200;
+
+/// Panics unless `message` (an error's Display) is at most
+/// [`MESSAGE_BYTES`] long without its paths, names one of the
 /// bundle's files, in `dir`, and, with [`Lines::Required`], a line number
 /// (`file:LINE:` or `line LINE`) unless it is one of [`WITHOUT_LINE`].
 /// With `FLEXBODY_FUZZ_LINES_REPORT` set, an error without a line is
@@ -45,6 +51,13 @@ pub fn error_located(message: &str, dir: &Path, lines: Lines) {
     assert!(
         message.contains(dir.as_ref()),
         "the error names no input file: {message}"
+    );
+    // Paths aside, a message quotes at most a short excerpt of its input.
+    let own = message.replace(dir.as_ref(), "").len();
+    assert!(
+        own <= MESSAGE_BYTES,
+        "the error is {own} bytes long, paths aside: {}",
+        flexbody::io::text::shortened(message)
     );
     if lines == Lines::FileOnly || WITHOUT_LINE.iter().any(|w| message.contains(w)) {
         return;

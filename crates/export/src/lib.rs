@@ -58,7 +58,7 @@ pub enum ExportError {
         path: PathBuf,
         cause: std::io::Error,
     },
-    #[error("{}: {message}", .path.display())]
+    #[error("{}: {}", .path.display(), flexbody_io::text::shortened(.message))]
     Format { path: PathBuf, message: String },
     #[error("refusing to write a non-finite value in {0}")]
     NonFinite(&'static str),

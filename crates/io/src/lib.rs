@@ -32,8 +32,9 @@ pub enum InputError {
         path: PathBuf,
         cause: std::io::Error,
     },
-    /// `path:line: message`, or `path: message` where no line applies.
-    #[error("{}{}: {message}", .path.display(), .line.map_or_else(String::new, |l| format!(":{l}")))]
+    /// `path:line: message`, or `path: message` where no line applies;
+    /// a long message is [`shortened`](text::shortened).
+    #[error("{}{}: {}", .path.display(), .line.map_or_else(String::new, |l| format!(":{l}")), text::shortened(.message))]
     Invalid {
         path: PathBuf,
         line: Option<usize>,

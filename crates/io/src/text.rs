@@ -47,6 +47,34 @@ fn excerpt_of(head: &str, bytes: usize) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// The longest error message [`shortened`] leaves whole (1000 bytes).
+pub const MESSAGE_BYTES: usize = 1000;
+
+/// `message`, or its first 600 and last 300 bytes when it is longer than
+/// [`MESSAGE_BYTES`], saying how much was left out: what every error of
+/// the readers shows, so that no message quotes a huge piece of its input
+/// (an unknown TOML key of a megabyte), whichever reader wrote it.
+pub fn shortened(message: &str) -> Cow<'_, str> {
+    if message.len() <= MESSAGE_BYTES {
+        return message.into();
+    }
+    let mut head = 600;
+    while !message.is_char_boundary(head) {
+        head -= 1;
+    }
+    let mut tail = message.len() - 300;
+    while !message.is_char_boundary(tail) {
+        tail += 1;
+    }
+    format!(
+        "{} [... {} bytes left out ...] {}",
+        &message[..head],
+        tail - head,
+        &message[tail..]
+    )
+    .into()
+}
+
 /// A number of an input file: finite and at most
 /// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude (Rust's
 /// float parsing takes `nan`, `inf` and `1e999` as numbers); the error
@@ -207,6 +235,16 @@ mod tests {
         assert!(e.contains("'\\0\\0\\0"), "{e}");
         assert!(e.len() < 500, "{} bytes", e.len());
         let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn a_long_message_keeps_its_start_and_end() {
+        assert_eq!(shortened("short"), "short");
+        let long = format!("unknown key `{}`, expected `a`", "\u{e9}".repeat(5000));
+        let s = shortened(&long);
+        assert!(s.len() < MESSAGE_BYTES + 100, "{}", s.len());
+        assert!(s.starts_with("unknown key `") && s.ends_with("`, expected `a`"));
+        assert!(s.contains("bytes left out"));
     }
 
     #[test]
