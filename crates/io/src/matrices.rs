@@ -62,7 +62,7 @@ pub fn read_calculix_matrices(job: &Path) -> Result<MatrixModel, InputError> {
     let dof_map = parse_calculix_dofs(&dof_path, &read_text(&dof_path)?)?;
     let read = |ext: &str| {
         let path = with_suffix(job, ext);
-        let entries = parse_calculix_matrix(&path, &read_text(&path)?, &dof_path, dof_map.len())?;
+        let entries = parse_calculix_matrix(&path, &read_text(&path)?, &dof_path, &dof_map)?;
         no_negative_diagonal(&path, &entries, &dof_map)?;
         symmetric_from_triangle(&path, dof_map.len(), &entries)
     };
@@ -305,14 +305,15 @@ fn parse_entry(
     })
 }
 
-/// The entries of a CalculiX `.sti`/`.mas` file over the `n` equations of
-/// `dof_path`; every diagonal entry must be present.
+/// The entries of a CalculiX `.sti`/`.mas` file over the equations of
+/// `dof_path` (`dofs`); every diagonal entry must be present.
 fn parse_calculix_matrix(
     path: &Path,
     text: &str,
     dof_path: &Path,
-    n: usize,
+    dofs: &DofMap,
 ) -> Result<Vec<Entry>, InputError> {
+    let n = dofs.len();
     let mut entries = Vec::new();
     let mut diagonal = vec![false; n];
     let size = format!("{} lists {n} equations", dof_path.display());
@@ -335,7 +336,12 @@ fn parse_calculix_matrix(
                 dof_path.display()
             )
         } else {
-            format!("no diagonal entry for equation {}", missing + 1)
+            format!(
+                "no diagonal entry for equation {} ({} in {})",
+                missing + 1,
+                dofs.dof(missing),
+                dof_path.display()
+            )
         };
         return Err(invalid(path, None, message));
     }
@@ -733,6 +739,16 @@ mod tests {
         assert_eq!(path, dir.0.join("job.sti"));
         assert_eq!(line, Some(4));
         assert!(message.contains("job.dof lists 2 equations"), "{message}");
+
+        // A diagonal entry missing inside the matrix names its node and DOF.
+        let no_diagonal = "1 1 2.0\n1 2 0.0\n1 3 0.0\n3 3 1.0\n";
+        let e = read_calculix_matrices(&calculix_job(&dir, DOF, STI, no_diagonal)).unwrap_err();
+        let (_, _, message) = where_and_what(e);
+        assert!(
+            message.contains("no diagonal entry for equation 2 (node 7 uz in ")
+                && message.contains("job.dof)"),
+            "{message}"
+        );
 
         let e = read_calculix_matrices(&dir.0.join("absent")).unwrap_err();
         assert!(matches!(e, InputError::Read { .. }));
