@@ -11,10 +11,11 @@ pub(super) fn study(src: TomlSource<'_>, raw: &RawFile) -> Result<Option<StudySp
         return Ok(None);
     };
     for o in &s.omegas {
-        if !(o.is_finite() && *o >= 0.0) {
-            return Err(src.error(
-                None,
-                format!("study: omega {o} must be a finite frequency >= 0 (rad/s)"),
+        let value = *o.get_ref();
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(src.at(
+                o,
+                format!("study: omega {value} must be a finite frequency >= 0 (rad/s)"),
             ));
         }
     }
@@ -32,7 +33,7 @@ pub(super) fn study(src: TomlSource<'_>, raw: &RawFile) -> Result<Option<StudySp
         }
     }
     Ok(Some(StudySpec {
-        omegas: s.omegas.clone(),
+        omegas: s.omegas.iter().map(|o| *o.get_ref()).collect(),
         cases: s.cases.iter().map(|c| c.get_ref().clone()).collect(),
     }))
 }

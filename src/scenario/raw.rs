@@ -184,7 +184,7 @@ impl RawConnection {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawStudy {
-    pub omegas: Vec<f64>,
+    pub omegas: Vec<Spanned<f64>>,
     pub cases: Vec<Spanned<CaseSpec>>,
 }
 

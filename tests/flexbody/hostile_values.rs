@@ -385,3 +385,31 @@ fn deck_and_matrix_numbers_beyond_1e100_are_refused_with_their_line() {
         &["k.mtx:3", "1e150 is beyond 1e100 in magnitude"],
     );
 }
+
+#[test]
+fn a_negative_study_frequency_is_refused_at_its_line() {
+    // Found by the model_file fuzz target: the error named no line.
+    let dir = tempfile::tempdir().unwrap();
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let from = "omegas = [0.006283185307179587, 122.0]";
+    let line = text.lines().position(|l| l.starts_with(from)).unwrap() + 1;
+    let model = write(
+        dir.path(),
+        "s.toml",
+        &text,
+        from,
+        "omegas = [0.006283185307179587, -1122.0]",
+    );
+    fails_with(
+        &[
+            "study",
+            &model,
+            "--out",
+            dir.path().join("out").to_str().unwrap(),
+        ],
+        &[&format!(
+            "s.toml:{line}: study: omega -1122 must be a finite frequency >= 0"
+        )],
+    );
+}

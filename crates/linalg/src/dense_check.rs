@@ -96,6 +96,15 @@ pub fn semi_definite(a: MatRef<'_, f64>) -> Result<(), String> {
 /// modes are all rigid has nothing else to measure round-off against.
 pub const ROUND_OFF_HZ: f64 = 0.01;
 
+/// The lowest eigenvalue `w^2` among `values` that is still the round-off
+/// zero of a rigid-body mode: `-1e-8` times the largest magnitude, or
+/// `-floor` where that is lower. The dense eigen solver refuses a pencil
+/// with an eigenvalue below it (`floor` 0), as does [`stable_pencil`].
+pub fn round_off_zero(values: &[f64], floor: f64) -> f64 {
+    let top = values.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    -(1e-8 * top).max(floor)
+}
+
 /// Whether the pencil of the symmetric `k` and the positive semi-definite
 /// `m` is stable: no eigenvalue `w^2` below `-1e-8` times the largest and
 /// below `-(2 pi ROUND_OFF_HZ)^2`. A pencil the dense solver cannot split
@@ -106,7 +115,7 @@ pub fn stable_pencil(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(), Strin
     };
     let top = pairs.values.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
     let floor = (std::f64::consts::TAU * ROUND_OFF_HZ).powi(2);
-    let bound = -(1e-8 * top).max(floor);
+    let bound = round_off_zero(&pairs.values, floor);
     match pairs.values.iter().copied().find(|&l| l < bound) {
         None => Ok(()),
         Some(l) => Err(format!(

@@ -248,8 +248,7 @@ fn dense_all(k: Mat<f64>, m: Mat<f64>) -> Result<EigenPairs, LinalgError> {
     drop((k, m));
     // Round-off zeros of rigid-body modes may be slightly negative; an
     // eigenvalue below -1e-8 of the largest is not round-off.
-    let top = pairs.values.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
-    let bound = -1e-8 * top;
+    let bound = crate::dense_check::round_off_zero(&pairs.values, 0.0);
     let count = pairs.values.iter().filter(|&&l| l < bound).count();
     if count > 0 {
         return Err(LinalgError::NotSemiDefinite { count, bound });
