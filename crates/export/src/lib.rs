@@ -62,7 +62,10 @@ pub enum ExportError {
     Format { path: PathBuf, message: String },
     #[error("refusing to write a non-finite value in {0}")]
     NonFinite(&'static str),
-    #[error("refusing to write a non-finite value in {0}")]
+    /// A matrix entry that is not finite, or beyond the
+    /// [`LARGEST`](flexbody_linalg::dense_check::LARGEST) magnitude no
+    /// reader takes back: the matrix and the entry.
+    #[error("refusing to write {0}")]
     NonFiniteIn(String),
     /// A format's content that the [`BodyOutput`] does not hold.
     #[error("nothing to write: {0} was not computed")]
@@ -278,6 +281,14 @@ pub struct BodyFile {
 /// Format tag written into every file.
 pub const FORMAT: &str = "flexbody-reduced-body/1";
 
+/// Refuses to write `m` (named `what`) if an entry is not finite or
+/// beyond [`LARGEST`](flexbody_linalg::dense_check::LARGEST) in magnitude
+/// (the readers would refuse the file), naming the first such entry.
+pub(crate) fn writable(m: faer::MatRef<'_, f64>, what: &str) -> Result<(), ExportError> {
+    use flexbody_linalg::dense_check::{out_of_range, LARGEST};
+    out_of_range(m, LARGEST).map_err(|e| ExportError::NonFiniteIn(format!("{what}: {e}")))
+}
+
 fn rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
     (0..m.nrows())
         .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
@@ -287,16 +298,12 @@ fn rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
 impl BodyFile {
     /// The document of `body`; fails on NaN or infinite entries.
     pub fn new(body: &ReducedBody) -> Result<Self, ExportError> {
-        let finite = |m: &Mat<f64>, what| {
-            if m.norm_max().is_finite() {
-                Ok(())
-            } else {
-                Err(ExportError::NonFinite(what))
-            }
-        };
-        finite(&body.basis, "the basis")?;
-        finite(&body.mass, "the mass matrix")?;
-        finite(&body.stiffness, "the stiffness matrix")?;
+        writable(body.basis.as_ref(), "the basis")?;
+        writable(body.mass.as_ref(), "the mass matrix")?;
+        writable(body.stiffness.as_ref(), "the stiffness matrix")?;
+        if let Some(d) = &body.damping {
+            writable(d.as_ref(), "the damping matrix")?;
+        }
         let frequencies_hz = body.frequencies_hz().map_err(|_| {
             ExportError::NonFinite("the frequencies (reduced mass matrix not positive definite)")
         })?;
@@ -582,5 +589,28 @@ mod tests {
         );
         let back = mtx::read_mtx(&folder).unwrap();
         assert_eq!(back.basis, small_body().basis);
+    }
+
+    #[test]
+    fn a_body_writer_names_the_entry_it_refuses_and_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut body = small_body();
+        body.basis[(2, 1)] = f64::NAN;
+        let json = dir.path().join("body.json");
+        let e = write_json(&body, &json).unwrap_err().to_string();
+        assert_eq!(e, "refusing to write the basis: entry (3, 2) is NaN");
+        assert!(!json.exists());
+        // Beyond 1e100 no reader would take it back.
+        let mut body = small_body();
+        body.damping = Some(Mat::from_fn(2, 2, |i, j| if i == j { 1e200 } else { 0.0 }));
+        let folder = dir.path().join("body");
+        let e = mtx::write_mtx(&body, None, &Default::default(), &folder)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the damping matrix: entry (1, 1) is 1e200, beyond 1e100"),
+            "{e}"
+        );
+        assert!(!folder.exists());
     }
 }

@@ -107,9 +107,10 @@ pub fn write_mtx(
         (&body.mass, "the mass matrix"),
         (&body.stiffness, "the stiffness matrix"),
     ] {
-        if !m.norm_max().is_finite() {
-            return Err(ExportError::NonFinite(what));
-        }
+        crate::writable(m.as_ref(), what)?;
+    }
+    if let Some(d) = &body.damping {
+        crate::writable(d.as_ref(), "the damping matrix")?;
     }
     let frequencies_hz = body.frequencies_hz().map_err(|_| {
         ExportError::NonFinite("the frequencies (reduced mass matrix not positive definite)")

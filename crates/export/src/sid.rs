@@ -362,8 +362,9 @@ fn write_entries(
 /// Writes `sid` to `path`, atomically; refuses non-finite values.
 pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
     for (name, t) in sid.quantities() {
-        if !t.m0.norm_max().is_finite() || t.m1.iter().any(|m| !m.norm_max().is_finite()) {
-            return Err(ExportError::NonFiniteIn(name.to_string()));
+        crate::writable(t.m0.as_ref(), &format!("{name} (m0)"))?;
+        for (k, m) in t.m1.iter().enumerate() {
+            crate::writable(m.as_ref(), &format!("{name} (m1 of coordinate {})", k + 1))?;
         }
     }
     write_atomically(path, |out| sid.write_text(out))
@@ -579,16 +580,18 @@ fn parse_taylor(
         },
         "m1",
     )?;
-    let mut a0 = Mat::zeros(nrow, ncol);
-    let mut a1 = vec![Mat::zeros(nrow, ncol); if order == 1 { nq } else { 0 }];
     // Every entry once: the counts matched, so a repeated entry hides a
-    // missing one.
-    let mut seen = std::collections::HashMap::new();
-    for (n, i, j, v) in m0 {
+    // missing one. An entry not yet given is NaN (values read are finite),
+    // so a repeat is seen without a second table.
+    let unset = if full { f64::NAN } else { 0.0 };
+    let mut a0 = Mat::from_fn(nrow, ncol, |_, _| unset);
+    let mut a1 = vec![a0.clone(); if order == 1 { nq } else { 0 }];
+    for &(n, i, j, v) in &m0 {
         if i == 0 || j == 0 || i > nrow || j > ncol {
             return Err(err(n, format!("m0({i}, {j}) is outside {nrow} x {ncol}")));
         }
-        if let Some(first) = seen.insert((i, j, 0), n) {
+        if !a0[(i - 1, j - 1)].is_nan() {
+            let first = m0.iter().find(|e| (e.1, e.2) == (i, j)).map_or(0, |e| e.0);
             return Err(err(
                 n,
                 format!("m0({i}, {j}) is given twice (first at line {first})"),
@@ -596,14 +599,18 @@ fn parse_taylor(
         }
         a0[(i - 1, j - 1)] = v;
     }
-    for (n, i, j, k, v) in m1 {
+    for &(n, i, j, k, v) in &m1 {
         if i == 0 || j == 0 || k == 0 || i > nrow || j > ncol || k > nq {
             return Err(err(
                 n,
                 format!("m1({i}, {j}, {k}) is outside {nrow} x {ncol} x {nq}"),
             ));
         }
-        if let Some(first) = seen.insert((i, j, k), n) {
+        if !a1[k - 1][(i - 1, j - 1)].is_nan() {
+            let first = m1
+                .iter()
+                .find(|e| (e.1, e.2, e.3) == (i, j, k))
+                .map_or(0, |e| e.0);
             return Err(err(
                 n,
                 format!("m1({i}, {j}, {k}) is given twice (first at line {first})"),
