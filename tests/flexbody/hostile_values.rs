@@ -335,6 +335,24 @@ fn a_body_file_that_describes_no_body_is_refused_before_use() {
     )
     .unwrap();
     inspect(&asymmetric, &["block 'Me': m0 is not symmetric"]);
+    // A node given twice: the second node's id made the first one's.
+    let mut frames = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim_start().starts_with("rframe"));
+    let ((first_line, first), (second_line, second)) =
+        (frames.next().unwrap(), frames.next().unwrap());
+    let twice = d.join("twice.sid");
+    std::fs::write(&twice, text.replacen(second, first, 1)).unwrap();
+    inspect(
+        &twice,
+        &[&format!(
+            "line {}, block 'node': node {} is given twice (first at line {})",
+            second_line + 1,
+            first.split('\'').nth(1).unwrap(),
+            first_line + 1
+        )],
+    );
     // Matrix Market folder: a NaN mass entry (a NaN mass in the summary).
     let folder = side_beam_body(d, "body", "mtx");
     let mass = folder.join("mass.mtx");

@@ -1,8 +1,8 @@
 //! Choosing a reduced-body format: [`write()`] by [`Format`], [`read_any`] by
 //! what the path holds, and [`summary`] for `flexbody inspect`.
 
-use crate::sid::{read_sid, write_sid, Sid};
-use crate::{mtx, read_json, write_json, ExportError};
+use crate::sid::{self, write_sid, Sid};
+use crate::{mtx, write_json, ExportError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use flexbody_fem::{DofKind, Substructure};
@@ -176,7 +176,8 @@ fn body_mass(body: &ReducedBody) -> Option<f64> {
 
 /// Reads a reduced body from `path`, recognising the format: a folder (or
 /// its `index.json`) is a Matrix Market body, a file whose first significant
-/// line is `part` is a SID, any other file is read as JSON.
+/// line is `part` is a SID, any other file is read as JSON. The file is
+/// read once, whole (as [`crate::read_json`] reads it).
 pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     if path.is_dir() {
         return mtx::read_mtx(path).map(|b| AnyBody::Reduced(Box::new(b)));
@@ -187,13 +188,13 @@ pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
         .map(str::trim)
         .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'));
     if first.is_some_and(|l| l.eq_ignore_ascii_case("part")) {
-        return read_sid(path).map(|s| AnyBody::Sid(Box::new(s)));
+        return sid::sid_from_text(path, &text).map(|s| AnyBody::Sid(Box::new(s)));
     }
     if text.contains(mtx::INDEX_FORMAT) {
         let dir = path.parent().unwrap_or(Path::new("."));
         return mtx::read_mtx(dir).map(|b| AnyBody::Reduced(Box::new(b)));
     }
-    read_json(path).map(|b| AnyBody::Reduced(Box::new(b)))
+    crate::json_from_text(path, &text).map(|b| AnyBody::Reduced(Box::new(b)))
 }
 
 /// The mass of the rigid translation along `kind` that the basis spans,

@@ -451,19 +451,23 @@ pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a JSON reduced body written by [`write_json`].
 pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
-    let text = read_json_text(path)?;
-    let doc: BodyFile = serde_json::from_str(&text).map_err(|e| ExportError::Format {
+    json_from_text(path, &read_json_text(path)?)
+}
+
+/// The JSON body in `text`, read from `path` (which errors name).
+pub(crate) fn json_from_text(path: &Path, text: &str) -> Result<ReducedBody, ExportError> {
+    let doc: BodyFile = serde_json::from_str(text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: format!(
             "line {}, block '{}': {e}",
             e.line(),
-            json_block_at(&text, e.line())
+            json_block_at(text, e.line())
         ),
     })?;
     doc.checked()
         .map_err(|(block, message)| ExportError::Format {
             path: path.to_path_buf(),
-            message: match json_key_line(&text, block) {
+            message: match json_key_line(text, block) {
                 Some(line) => format!("line {line}, block '{block}': {message}"),
                 None => format!("block '{block}': {message}"),
             },

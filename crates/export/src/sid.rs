@@ -372,8 +372,12 @@ pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a SID file written by [`write_sid`].
 pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
-    let text = crate::read_text(path)?;
-    parse_sid(&text).map_err(|e| ExportError::Format {
+    sid_from_text(path, &crate::read_text(path)?)
+}
+
+/// The SID in `text`, read from `path` (which errors name).
+pub(crate) fn sid_from_text(path: &Path, text: &str) -> Result<Sid, ExportError> {
+    parse_sid(text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: e.to_string(),
     })
@@ -399,39 +403,30 @@ impl std::fmt::Display for ParseError {
 
 /// Line cursor over the significant lines of a SID text.
 struct Lines<'a> {
-    lines: Vec<(usize, &'a str)>,
-    pos: usize,
-    /// Number of the last line of the file (for "ends inside" errors).
-    last: usize,
+    text: &'a str,
+    lines: std::iter::Enumerate<std::str::Lines<'a>>,
 }
 
 impl<'a> Lines<'a> {
     fn new(text: &'a str) -> Self {
-        let lines: Vec<(usize, &str)> = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'))
-            .collect();
         Self {
-            last: text.lines().count(),
-            lines,
-            pos: 0,
+            text,
+            lines: text.lines().enumerate(),
         }
     }
 
     fn next(&mut self, block: &str, opened: usize) -> Result<(usize, &'a str), ParseError> {
-        let l = self
-            .lines
-            .get(self.pos)
-            .copied()
-            .ok_or_else(|| ParseError {
-                line: self.last,
-                block: block.to_string(),
-                message: format!("the file ends inside block '{block}' (opened at line {opened})"),
-            })?;
-        self.pos += 1;
-        Ok(l)
+        for (i, l) in self.lines.by_ref() {
+            let l = l.trim();
+            if !l.is_empty() && !l.starts_with('#') && !l.starts_with('!') {
+                return Ok((i + 1, l));
+            }
+        }
+        Err(ParseError {
+            line: self.text.lines().count(),
+            block: block.to_string(),
+            message: format!("the file ends inside block '{block}' (opened at line {opened})"),
+        })
     }
 
     fn expect(&mut self, keyword: &str, block: &str, opened: usize) -> Result<usize, ParseError> {
@@ -453,12 +448,31 @@ fn key_value(l: &str) -> Option<(&str, &str)> {
     Some((k.trim(), v.trim()))
 }
 
-/// `name(1, 2, 3)` -> ("name", [1, 2, 3]).
-fn indexed(key: &str) -> Option<(&str, Vec<usize>)> {
+/// `name(1, 2, 3)` -> ("name", [1, 2, 3]): a name and one to three
+/// indices.
+fn indexed(key: &str) -> Option<(&str, Indices)> {
     let (name, rest) = key.split_once('(')?;
     let inner = rest.strip_suffix(')')?;
-    let idx: Option<Vec<usize>> = inner.split(',').map(|s| s.trim().parse().ok()).collect();
-    Some((name.trim(), idx?))
+    let mut idx = Indices::default();
+    for s in inner.split(',') {
+        *idx.values.get_mut(idx.len)? = s.trim().parse().ok()?;
+        idx.len += 1;
+    }
+    Some((name.trim(), idx))
+}
+
+/// The indices of an entry `name(i, j, k)`, without a heap allocation
+/// (a SID holds millions of entries).
+#[derive(Default)]
+struct Indices {
+    values: [usize; 3],
+    len: usize,
+}
+
+impl Indices {
+    fn as_slice(&self) -> &[usize] {
+        &self.values[..self.len]
+    }
 }
 
 /// One block `name` (a Taylor expansion) of `nq` coordinates that must be
@@ -725,6 +739,7 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
     let ielastq = ielastq.into_iter().map(Option::unwrap_or_default).collect();
     let frame = lines.expect("new frame", "modal", modal)?;
     let mut nodes = Vec::new();
+    let mut node_lines: Vec<(u64, usize)> = Vec::new();
     loop {
         let (n, l) = lines.next("frame", frame)?;
         if l.eq_ignore_ascii_case("end frame") {
@@ -763,13 +778,7 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             parts.push(parse_taylor(&mut lines, name, opened, nq, shape)?);
         }
         lines.expect("end node", "node", n)?;
-        if nodes.iter().any(|node: &SidNode| node.id == id) {
-            return Err(ParseError {
-                line: rn,
-                block: "node".into(),
-                message: format!("node {id} is given twice"),
-            });
-        }
+        node_lines.push((id, rn));
         let mut parts = parts.into_iter();
         let mut take = || parts.next().expect("four parts");
         nodes.push(SidNode {
@@ -778,6 +787,15 @@ pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
             phi: take(),
             psi: take(),
             ap: take(),
+        });
+    }
+    // Each node once; a repeat is named at its second line.
+    node_lines.sort_unstable();
+    if let Some(w) = node_lines.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(ParseError {
+            line: w[1].1,
+            block: "node".into(),
+            message: format!("node {} is given twice (first at line {})", w[0].0, w[0].1),
         });
     }
     let expected: [(&str, usize, usize); 11] = [
