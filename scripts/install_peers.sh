@@ -5,7 +5,9 @@
 #     matrices against a live ccx (crates/fem) and the stored fixtures
 #     (scripts/calculix_fixtures.sh check);
 #   - numpy, scipy and exudyn for python3 (pip), for scripts/exudyn_check.py,
-#     run by the test exudyn::exudyn_agrees_with_flexbody;
+#     run by the test exudyn::exudyn_agrees_with_flexbody, and numpy for
+#     scripts/beam_invariants.py, run by the test
+#     sid::beam_invariants_equal_an_independent_numpy_integration;
 #   - Chromium (Debian package chromium), the browser that renders the HTML
 #     report of `study --report` in the test report_html;
 #   - meshio for python3 (pip), for scripts/vtu_compare.py, run by the test

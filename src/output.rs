@@ -69,7 +69,7 @@ pub fn sid(
     model: Option<&Model>,
     body: &ReducedBody,
 ) -> Result<Sid, OutputError> {
-    let frame = FloatingFrame::new(sub, body)?;
+    let frame = FloatingFrame::new(sub, model, body)?;
     let ksigma = match model {
         Some(model) => frame
             .elastic

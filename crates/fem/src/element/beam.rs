@@ -5,9 +5,10 @@
 //! local x-z plane (displacement w, rotation ry = -dw/dx), `Iz` in the x-y
 //! plane (v, rz = dv/dx). Local DOF order per node: ux uy uz rx ry rz.
 
+use super::mass_distribution::GAUSS_4;
 use super::{
     axis, bending, congruence, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, ElementType,
-    SectionForces, SectionKind, SectionValues, VtkCell,
+    MassDistribution, MassPoint, SectionForces, SectionKind, SectionValues, VtkCell,
 };
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
@@ -102,6 +103,24 @@ impl Beam {
         )
     }
 
+    /// The shear parameters `12 E I / (G A_s l^2)` of bending in the x-y
+    /// and the x-z plane (zero for Euler-Bernoulli).
+    fn shear_parameters(&self, l: f64) -> (f64, f64) {
+        let p = &self.properties;
+        let (e, g, s) = (
+            p.material.youngs_modulus,
+            p.material.shear_modulus,
+            &p.section,
+        );
+        match p.theory {
+            BeamTheory::EulerBernoulli => (0.0, 0.0),
+            BeamTheory::Timoshenko => (
+                12.0 * e * s.iz / (g * s.shear_area_y * l * l),
+                12.0 * e * s.iy / (g * s.shear_area_z * l * l),
+            ),
+        }
+    }
+
     /// Local stiffness and mass (12x12).
     fn local_matrices(&self, l: f64) -> (Mat<f64>, Mat<f64>) {
         let p = &self.properties;
@@ -111,13 +130,7 @@ impl Beam {
             p.material.density,
         );
         let s = &p.section;
-        let (phi_y, phi_z) = match p.theory {
-            BeamTheory::EulerBernoulli => (0.0, 0.0),
-            BeamTheory::Timoshenko => (
-                12.0 * e * s.iz / (g * s.shear_area_y * l * l),
-                12.0 * e * s.iy / (g * s.shear_area_z * l * l),
-            ),
-        };
+        let (phi_y, phi_z) = self.shear_parameters(l);
         let rot = if p.rotary_inertia { 1.0 } else { 0.0 };
         let mut k = Mat::<f64>::zeros(12, 12);
         let mut m = Mat::<f64>::zeros(12, 12);
@@ -205,6 +218,61 @@ impl ElementBehaviour for Beam {
             mass: congruence(&m, &t),
             damping: None,
         })
+    }
+
+    /// Four Gauss points along the axis, moving with the shape functions
+    /// of the mass matrix (Przemieniecki's; axial displacement and
+    /// twist linear), with the section's rotary inertia: the polar
+    /// `rho (Iy + Iz)` always, bending `rho Iy`, `rho Iz` with rotary
+    /// inertia. Exact for the element's mass matrix.
+    fn mass_distribution(&self, model: &Model) -> Result<MassDistribution, FemError> {
+        let (a, b) = self.ends(model);
+        let (l, r) = self.rotation(a, b)?;
+        let t = Self::transformation(&r);
+        let p = &self.properties;
+        let (rho, s) = (p.material.density, &p.section);
+        let (phi_y, phi_z) = self.shear_parameters(l);
+        let rot = if p.rotary_inertia { 1.0 } else { 0.0 };
+        // Rotary inertia per length about the local x, y, z axes.
+        let j_local = [rho * (s.iy + s.iz), rot * rho * s.iy, rot * rho * s.iz];
+        let to_global = Mat::from_fn(3, 3, |i, j| r[j][i]);
+        let points = GAUSS_4
+            .iter()
+            .map(|&(xi, w)| {
+                let mut u = Mat::<f64>::zeros(3, 12);
+                let mut th = Mat::<f64>::zeros(3, 12);
+                u[(0, 0)] = 1.0 - xi;
+                u[(0, 6)] = xi;
+                th[(0, 3)] = 1.0 - xi;
+                th[(0, 9)] = xi;
+                // x-y plane (uy, rz), rz = dv/dx: signs +1.
+                let (n_v, n_th) = bending::shapes(phi_y, l, xi);
+                for (c, i) in [1, 5, 7, 11].into_iter().enumerate() {
+                    u[(1, i)] = n_v[c];
+                    th[(2, i)] = n_th[c];
+                }
+                // x-z plane (uz, ry), ry = -dw/dx: the block's rotation is
+                // -ry, and the section turns by ry.
+                let (n_v, n_th) = bending::shapes(phi_z, l, xi);
+                for (c, i) in [2, 4, 8, 10].into_iter().enumerate() {
+                    let sign = if c % 2 == 0 { 1.0 } else { -1.0 };
+                    u[(2, i)] = sign * n_v[c];
+                    th[(1, i)] = -sign * n_th[c];
+                }
+                MassPoint {
+                    position: std::array::from_fn(|d| a[d] + xi * (b[d] - a[d])),
+                    mass: rho * s.area * l * w,
+                    inertia: std::array::from_fn(|i| {
+                        std::array::from_fn(|j| {
+                            (0..3).map(|c| r[c][i] * j_local[c] * r[c][j]).sum::<f64>() * l * w
+                        })
+                    }),
+                    translation: &to_global * &u * &t,
+                    rotation: &to_global * &th * &t,
+                }
+            })
+            .collect();
+        Ok(MassDistribution::Points(points))
     }
 
     fn has_section_forces(&self) -> bool {

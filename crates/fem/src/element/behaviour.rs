@@ -2,7 +2,7 @@
 //! assembler, the model's checks, recovery and the VTK writer use an
 //! element without knowing its type.
 
-use super::{ElementMatrices, SectionForces};
+use super::{ElementMatrices, MassDistribution, SectionForces};
 use crate::dof::Dof;
 use crate::model::{Model, NodeId, Rayleigh};
 use crate::FemError;
@@ -62,6 +62,15 @@ pub trait ElementBehaviour {
     /// material damping is added by
     /// [`Element::matrices`](super::Element::matrices), not here.
     fn matrices(&self, model: &Model) -> Result<ElementMatrices, FemError>;
+
+    /// Where the element's mass is in space ([`MassDistribution`]), for
+    /// the floating-frame invariants. The default: the nodal form of an
+    /// isoparametric element with consistent mass (translations only,
+    /// `M_e = S (x) I_3`), read from [`Self::matrices`]; an element whose
+    /// mass is not of that form is refused, naming it.
+    fn mass_distribution(&self, model: &Model) -> Result<MassDistribution, FemError> {
+        MassDistribution::nodal(self.id(), &self.matrices(model)?)
+    }
 
     /// True if [`Self::section_forces`] gives section forces (beams).
     fn has_section_forces(&self) -> bool {

@@ -13,6 +13,7 @@ mod behaviour;
 mod bending;
 pub mod dashpot;
 mod discrete;
+mod mass_distribution;
 pub mod planar_beam;
 pub mod point_mass;
 mod registry;
@@ -22,6 +23,7 @@ pub mod spring;
 pub use beam::Beam;
 pub use behaviour::{ElementBehaviour, VtkCell};
 pub use dashpot::{AxialDashpot, Dashpot};
+pub use mass_distribution::{MassDistribution, MassPoint};
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
 pub use registry::{element_types, ElementType, SectionKind, SectionValues};
@@ -170,6 +172,12 @@ impl Element {
     pub fn has_damping(&self) -> bool {
         let b = self.behaviour();
         b.has_damping() || b.material_damping().is_some()
+    }
+
+    /// Where the element's mass is in space, for the floating-frame
+    /// invariants ([`ElementBehaviour::mass_distribution`]).
+    pub fn mass_distribution(&self, model: &Model) -> Result<MassDistribution, FemError> {
+        self.behaviour().mass_distribution(model)
     }
 
     /// True if the element has section forces (beams).

@@ -3,8 +3,10 @@
 //! about y, so that the rigid-body modes of eq. 12 apply unchanged). This is
 //! the element of the report's side beam.
 
+use super::mass_distribution::GAUSS_4;
 use super::{
-    axis, bending, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, SectionForces, VtkCell,
+    axis, bending, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, MassDistribution,
+    MassPoint, SectionForces, VtkCell,
 };
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
@@ -91,6 +93,53 @@ impl ElementBehaviour for PlanarBeam {
             mass,
             damping: None,
         })
+    }
+
+    /// Four Gauss points along the axis moving with the shape functions of
+    /// the mass matrix, with the bending rotary inertia `rho Iy` about y if
+    /// the beam has rotary inertia: exact for the element's mass matrix.
+    fn mass_distribution(&self, model: &Model) -> Result<MassDistribution, FemError> {
+        let (a, b) = (model.coords(self.nodes[0]), model.coords(self.nodes[1]));
+        let (l, s) = self.geometry(a, b)?;
+        let p = &self.properties;
+        let rho = p.material.density;
+        let rho_i = if p.rotary_inertia {
+            rho * p.section.iy
+        } else {
+            0.0
+        };
+        // The bending block is in (w, dw/dx) along the element's own x
+        // ([`Self::local`]); the section turns by ry = -s dw/dx.
+        let sign = [1.0, -s, 1.0, -s];
+        let points =
+            GAUSS_4
+                .iter()
+                .map(|&(xi, w)| {
+                    let (n_v, n_th) = bending::shapes(0.0, l, xi);
+                    let mut inertia = [[0.0; 3]; 3];
+                    inertia[1][1] = rho_i * l * w;
+                    MassPoint {
+                        position: std::array::from_fn(|d| a[d] + xi * (b[d] - a[d])),
+                        mass: rho * p.section.area * l * w,
+                        inertia,
+                        translation: Mat::from_fn(3, 4, |d, c| {
+                            if d == 2 {
+                                sign[c] * n_v[c]
+                            } else {
+                                0.0
+                            }
+                        }),
+                        rotation: Mat::from_fn(3, 4, |d, c| {
+                            if d == 1 {
+                                -s * sign[c] * n_th[c]
+                            } else {
+                                0.0
+                            }
+                        }),
+                    }
+                })
+                .collect();
+        Ok(MassDistribution::Points(points))
     }
 
     fn has_section_forces(&self) -> bool {

@@ -1,7 +1,10 @@
 //! Point mass with rotary inertia, on the DOFs its node has.
 
 use super::VtkCell;
-use super::{ElementBehaviour, ElementMatrices, ElementType, SectionKind, SectionValues};
+use super::{
+    ElementBehaviour, ElementMatrices, ElementType, MassDistribution, MassPoint, SectionKind,
+    SectionValues,
+};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::FemError;
@@ -79,6 +82,18 @@ impl ElementBehaviour for PointMass {
             mass,
             damping: None,
         })
+    }
+
+    /// One rigid point at the node: its mass and inertia tensor.
+    fn mass_distribution(&self, model: &Model) -> Result<MassDistribution, FemError> {
+        let [ixx, iyy, izz, ixy, iyz, ixz] = self.inertia;
+        Ok(MassDistribution::Points(vec![MassPoint {
+            position: model.coords(self.node),
+            mass: self.mass,
+            inertia: [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]],
+            translation: Mat::from_fn(3, 6, |i, j| f64::from(u8::from(j == i))),
+            rotation: Mat::from_fn(3, 6, |i, j| f64::from(u8::from(j == i + 3))),
+        }]))
     }
 
     fn vtk_cell(&self) -> Option<VtkCell> {

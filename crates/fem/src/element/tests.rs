@@ -246,3 +246,56 @@ fn point_mass_adds_only_to_existing_dofs() {
     assert!((a[(uz, uz)] - b[(uz, uz)] - 5.0).abs() < 1e-12);
     assert!((a[(ry, ry)] - b[(ry, ry)] - 2.0).abs() < 1e-12);
 }
+
+/// `sum_g m_g U_g^T U_g + Theta_g^T J_g Theta_g` over the mass points of
+/// every element of `model` against its own mass matrix.
+fn assert_points_hold_the_mass_matrix(model: &Model, case: &str) {
+    use crate::element::MassDistribution;
+    for e in model.elements() {
+        let m = e.matrices(model).unwrap().mass;
+        let MassDistribution::Points(points) = e.mass_distribution(model).unwrap() else {
+            panic!("{case}: element {} has no mass points", e.id());
+        };
+        let n = m.nrows();
+        let mut sum = Mat::<f64>::zeros(n, n);
+        for p in &points {
+            let j = Mat::from_fn(3, 3, |a, b| p.inertia[a][b]);
+            sum += p.translation.transpose() * &p.translation * faer::Scale(p.mass)
+                + p.rotation.transpose() * &j * &p.rotation;
+        }
+        let error = (&sum - &m).norm_max() / m.norm_max();
+        assert!(error < 1e-13, "{case}, element {}: {error:e}", e.id());
+    }
+}
+
+#[test]
+fn mass_points_hold_each_element_mass_matrix() {
+    // 3D beams along a skew axis, both theories (Timoshenko with rotary
+    // inertia, Euler-Bernoulli without), and planar beams along +x and -x.
+    for theory in [BeamTheory::Timoshenko, BeamTheory::EulerBernoulli] {
+        let skew = line(3, [0.1, -0.2, 0.3], [1.1, 0.7, -0.5], false, theory, true);
+        assert_points_hold_the_mass_matrix(&skew, &format!("skew 3D {theory:?}"));
+    }
+    for (a, b) in [([0.0; 3], [1.0, 0.0, 0.0]), ([1.0, 0.0, 0.0], [0.0; 3])] {
+        let planar = line(2, a, b, true, BeamTheory::EulerBernoulli, false);
+        assert_points_hold_the_mass_matrix(&planar, &format!("planar from {a:?}"));
+    }
+    // A point mass with a full inertia tensor on a 3D beam's node.
+    let beam = line(
+        1,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        false,
+        BeamTheory::Timoshenko,
+        false,
+    );
+    let mut elements = beam.elements().to_vec();
+    elements.push(Element::PointMass(PointMass {
+        id: 9,
+        node: 2,
+        mass: 5.0,
+        inertia: [1.0, 2.0, 3.0, 0.1, -0.2, 0.3],
+    }));
+    let with_mass = Model::of(beam.nodes().to_vec(), elements).build().unwrap();
+    assert_points_hold_the_mass_matrix(&with_mass, "point mass");
+}

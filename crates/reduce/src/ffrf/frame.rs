@@ -4,7 +4,7 @@
 use super::{elastic_basis, mass_invariants, ElasticBasis, FfrfError, MassInvariants};
 use crate::ReducedBody;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, NodeId, Substructure};
+use flexbody_fem::{Dof, DofKind, Model, NodeId, Substructure};
 use std::collections::BTreeSet;
 
 /// A node that the floating frame carries (an interface node of the body).
@@ -39,13 +39,19 @@ pub struct FloatingFrame {
 }
 
 impl FloatingFrame {
-    /// The floating frame of `body`, reduced from `sub`: `sub` gives the
-    /// mass matrix of the invariants and the node coordinates (of the
-    /// rigid-body motions and of the frame nodes); `body` its basis, reduced
-    /// matrices and interface.
-    pub fn new(sub: &Substructure, body: &ReducedBody) -> Result<Self, FfrfError> {
+    /// The floating frame of `body`, reduced from `sub` (of the mesh
+    /// `model`, if known): `sub` gives the mass matrix of the elastic
+    /// coordinates and the node coordinates (of the rigid-body motions and
+    /// of the frame nodes), `model` the body integrals of the invariants
+    /// ([`mass_invariants`]); `body` its basis, reduced matrices and
+    /// interface.
+    pub fn new(
+        sub: &Substructure,
+        model: Option<&Model>,
+        body: &ReducedBody,
+    ) -> Result<Self, FfrfError> {
         let elastic = elastic_basis(sub, body)?;
-        let invariants = mass_invariants(sub, &elastic)?;
+        let invariants = mass_invariants(sub, model, &elastic)?;
         let ids: BTreeSet<NodeId> = body.interface.iter().map(|d| d.node).collect();
         let nodes = ids
             .into_iter()

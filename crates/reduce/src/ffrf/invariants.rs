@@ -5,7 +5,7 @@
 use super::{ElasticBasis, FfrfError};
 use crate::modes::rigid::rigid_body_transformation;
 use faer::Mat;
-use flexbody_fem::Substructure;
+use flexbody_fem::{Model, Substructure};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -146,7 +146,7 @@ fn trace(p: &[[f64; 3]; 3]) -> f64 {
 }
 
 /// `int a x b dm` from `P = int a b^T dm`.
-fn cross_of(p: &[[f64; 3]; 3]) -> [f64; 3] {
+pub(super) fn cross_of(p: &[[f64; 3]; 3]) -> [f64; 3] {
     [p[1][2] - p[2][1], p[2][0] - p[0][2], p[0][1] - p[1][0]]
 }
 
@@ -164,11 +164,36 @@ fn oe_row(p: &[[f64; 3]; 3]) -> [f64; 6] {
     ]
 }
 
-/// The invariants of the elastic modes `basis` (of a body reduced from
-/// `sub`): integrals over the mass matrix of `sub`, about the origin of its
-/// frame (see the [module docs](super) for the formulas).
+/// The integrals over the body that the invariants are made of: the mass,
+/// `int x0 dm`, `int Phi_k dm`, and the products `P(a, b) = int a b^T dm`
+/// of the positions and the modes.
+pub(super) struct Integrals {
+    pub mass: f64,
+    /// `int x0 dm`.
+    pub md_cm: [f64; 3],
+    /// `int Phi_k dm`, per mode.
+    pub first: Vec<[f64; 3]>,
+    /// `P(x0, x0)`.
+    pub x_x: [[f64; 3]; 3],
+    /// `int x0 x Phi_k dm`, per mode.
+    pub cross: Vec<[f64; 3]>,
+    /// `P(x0, Phi_k)`, per mode.
+    pub x_phi: Vec<[[f64; 3]; 3]>,
+    /// `P(Phi_k, Phi_l)`, `[k][l]`.
+    pub phi_phi: Vec<Vec<[[f64; 3]; 3]>>,
+}
+
+/// The invariants of the elastic modes `basis` of a body reduced from
+/// `sub` (see the [module docs](super) for the formulas). With the mesh
+/// `model` of `sub`, the integrals run over its elements
+/// ([`MassDistribution`](flexbody_fem::element::MassDistribution)): the
+/// whole body's mass, fixed DOFs included, and each element's own shape
+/// functions (beams: rotations and rotary inertia). Without one (matrix
+/// input), over the mass matrix of `sub`: its DOFs' mass only, and the
+/// products of two fields from its translational part node by node.
 pub fn mass_invariants(
     sub: &Substructure,
+    model: Option<&Model>,
     basis: &ElasticBasis,
 ) -> Result<MassInvariants, FfrfError> {
     let m = &sub.matrices.mass;
@@ -179,6 +204,25 @@ pub fn mass_invariants(
             dofs: sub.dof_map.len(),
         });
     }
+    let integrals = match model {
+        Some(model) => super::mesh_integrals::mesh_integrals(model, phi)?,
+        None => matrix_integrals(sub, phi)?,
+    };
+    if !(integrals.mass > 0.0 && integrals.mass.is_finite()) {
+        return Err(FfrfError::NoTranslationalMass);
+    }
+    let mut me = phi.transpose() * flexbody_linalg::sparse::symmetric_mul(m, phi.as_ref());
+    flexbody_linalg::sparse::symmetrize(&mut me);
+    Ok(from_integrals(integrals, me))
+}
+
+/// The integrals from the mass matrix of `sub` alone: `mass`, `mdCM`, `J`,
+/// `int Phi_k dm` and `int x0 x Phi_k dm` from its products with the
+/// rigid-body motions (exact for every element type on the DOFs it has),
+/// the other products from its translational part node by node
+/// ([`NodeMass`]).
+fn matrix_integrals(sub: &Substructure, phi: &Mat<f64>) -> Result<Integrals, FfrfError> {
+    let m = &sub.matrices.mass;
     let nq = phi.ncols();
     let rigid = rigid_body_transformation(sub, [0.0; 3]);
     let mr = flexbody_linalg::sparse::symmetric_mul(m, rigid.as_ref());
@@ -198,31 +242,25 @@ pub fn mass_invariants(
             *slot = mass * (rr[(3 + c, b)] - rr[(3 + b, c)]) / denominator;
         }
     }
+    // J = tr(P) I - P, so P(x0, x0) = tr(J)/2 I - J.
     let j: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|b| rr[(3 + a, 3 + b)]));
+    let x_x = std::array::from_fn(|a| {
+        std::array::from_fn(|b| if a == b { trace(&j) / 2.0 } else { 0.0 } - j[a][b])
+    });
     let mphi = flexbody_linalg::sparse::symmetric_mul(m, phi.as_ref());
     let coupling = mphi.transpose() * &rigid; // nq x 6
-    let ct = Mat::from_fn(nq, 3, |k, a| coupling[(k, a)]);
-    let cr = Mat::from_fn(nq, 3, |k, a| coupling[(k, 3 + a)]);
-    let mut me = phi.transpose() * &mphi;
-    flexbody_linalg::sparse::symmetrize(&mut me);
-    let md_cm1 = (0..nq)
-        .map(|k| std::array::from_fn(|a| ct[(k, a)]))
-        .collect();
 
     let nodes = NodeMass::new(sub);
     let x0 = nodes.coords.clone();
-    let sx0 = nodes.apply(&x0);
     let fields: Vec<Vec<[f64; 3]>> = (0..nq).map(|k| nodes.field(phi, k)).collect();
     let sfields: Vec<Vec<[f64; 3]>> = fields.par_iter().map(|f| nodes.apply(f)).collect();
-    // P(x0, Phi_k) and P(Phi_k, x0).
     let x_phi: Vec<[[f64; 3]; 3]> = sfields.iter().map(|sf| outer(&x0, sf)).collect();
-    let phi_x: Vec<[[f64; 3]; 3]> = fields.iter().map(|f| outer(f, &sx0)).collect();
     // P(Phi_k, Phi_l), [k][l]: all of them as one product F^T (S F), the
     // fields side by side (column 3 k + a: direction a of mode k).
     let side_by_side =
         |f: &[Vec<[f64; 3]>]| Mat::from_fn(nodes.coords.len(), 3 * nq, |p, c| f[c / 3][p][c % 3]);
     let products = side_by_side(&fields).transpose() * side_by_side(&sfields);
-    let phi_phi: Vec<Vec<[[f64; 3]; 3]>> = (0..nq)
+    let phi_phi = (0..nq)
         .map(|k| {
             (0..nq)
                 .map(|l| {
@@ -233,8 +271,32 @@ pub fn mass_invariants(
                 .collect()
         })
         .collect();
+    Ok(Integrals {
+        mass,
+        md_cm,
+        first: (0..nq)
+            .map(|k| std::array::from_fn(|a| coupling[(k, a)]))
+            .collect(),
+        x_x,
+        cross: (0..nq)
+            .map(|k| std::array::from_fn(|a| coupling[(k, 3 + a)]))
+            .collect(),
+        x_phi,
+        phi_phi,
+    })
+}
 
-    let j1 = x_phi
+/// The invariants from the body integrals and `Me`.
+fn from_integrals(i: Integrals, me: Mat<f64>) -> MassInvariants {
+    let nq = i.first.len();
+    let p = &i.x_x;
+    let j = std::array::from_fn(|a| {
+        std::array::from_fn(|b| if a == b { trace(p) } else { 0.0 } - p[a][b])
+    });
+    let ct = Mat::from_fn(nq, 3, |k, a| i.first[k][a]);
+    let cr = Mat::from_fn(nq, 3, |k, a| i.cross[k][a]);
+    let j1 = i
+        .x_phi
         .iter()
         .map(|p| {
             let tr = trace(p);
@@ -244,25 +306,27 @@ pub fn mass_invariants(
         })
         .collect();
     let cr1 = (0..nq)
-        .map(|l| Mat::from_fn(nq, 3, |k, a| cross_of(&phi_phi[l][k])[a]))
+        .map(|l| Mat::from_fn(nq, 3, |k, a| cross_of(&i.phi_phi[l][k])[a]))
         .collect();
     let gr = Mat::from_fn(3, 3 * nq, |a, col| {
         let (k, b) = (col / 3, col % 3);
-        let p = &x_phi[k];
+        let p = &i.x_phi[k];
         -2.0 * (p[b][a] - if a == b { trace(p) } else { 0.0 })
     });
     let ge = Mat::from_fn(nq, 3 * nq, |k, col| {
         let (l, a) = (col / 3, col % 3);
-        -2.0 * cross_of(&phi_phi[k][l])[a]
+        -2.0 * cross_of(&i.phi_phi[k][l])[a]
     });
-    let oe = Mat::from_fn(nq, 6, |k, c| oe_row(&phi_x[k])[c]);
+    // P(Phi_k, x0) = P(x0, Phi_k)^T.
+    let transposed = |p: &[[f64; 3]; 3]| std::array::from_fn(|a| std::array::from_fn(|b| p[b][a]));
+    let oe = Mat::from_fn(nq, 6, |k, c| oe_row(&transposed(&i.x_phi[k]))[c]);
     let oe1 = (0..nq)
-        .map(|l| Mat::from_fn(nq, 6, |k, c| oe_row(&phi_phi[k][l])[c]))
+        .map(|l| Mat::from_fn(nq, 6, |k, c| oe_row(&i.phi_phi[k][l])[c]))
         .collect();
-    Ok(MassInvariants {
-        mass,
-        md_cm,
-        md_cm1,
+    MassInvariants {
+        mass: i.mass,
+        md_cm: i.md_cm,
+        md_cm1: i.first,
         j,
         j1,
         ct,
@@ -273,5 +337,5 @@ pub fn mass_invariants(
         ge,
         oe,
         oe1,
-    })
+    }
 }

@@ -38,14 +38,20 @@
 //! | Ke | nq x nq | `Phi^T K Phi` | - |
 //! | De | nq x nq | `Phi^T D Phi` | - |
 //!
-//! `t_d` and `r_a` are the rigid-body translations and rotations about the
-//! frame origin (eq. 12, with rotation DOFs), so mass, `mdCM`, `J`, `Ct` and
-//! `Cr` (m0) are exact for every element type, rotary inertia of beams
-//! included. The products of two fields (`J`, `Cr` m1, `Gr`, `Ge`, `Oe`)
-//! use the translational part of `M` node by node,
+//! With the mesh ([`mass_invariants`] given the model), every integral
+//! runs over the elements
+//! ([`MassDistribution`](flexbody_fem::element::MassDistribution)): the
+//! whole body's mass, fixed DOFs included, solids through their nodes
+//! and beams and point masses as rigid slices moving with the beam's own
+//! shape functions (rotations and rotary inertia included);
+//! `J = tr(P) I - P` with `P = int x0 x0^T dm`. Exact for every element type. From matrices
+//! alone, the mass, `mdCM`, `J`, `Ct` and `Cr` (m0) come from `R^T M R`
+//! and `Phi^T M R`, with `t_d` and `r_a` the rigid-body translations and
+//! rotations about the frame origin (eq. 12), and the products of two
+//! fields from the translational part of `M` node by node,
 //! `int a b^T dm = sum_pq a_p (S b)_q^T` with `S_pq` the translational
-//! mass coupling of nodes p and q: exact for solids (isoparametric, consistent
-//! mass), an approximation without rotary terms for beams.
+//! mass coupling of nodes p and q: exact for solids, without rotary terms
+//! for beams, and without the mass of DOFs the matrices do not have.
 //!
 //! **Frame nodes** ([`FloatingFrame::nodes`]): each interface node's
 //! position `x0` and its rows of `Phi` (translations `phi`, rotations
@@ -55,6 +61,7 @@
 mod elastic;
 mod frame;
 mod invariants;
+mod mesh_integrals;
 #[cfg(test)]
 mod tests;
 
@@ -90,4 +97,7 @@ pub enum FfrfError {
     /// The mass matrix carries no translational mass.
     #[error("the model has no translational mass")]
     NoTranslationalMass,
+    /// An element's mass has no place in space.
+    #[error("{0}")]
+    Mass(flexbody_fem::FemError),
 }

@@ -6,7 +6,7 @@ use crate::modes::rigid::rigid_body_transformation;
 use crate::{Method, ModeKind, ReducedBody};
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, DofMap, Substructure, SystemMatrices};
+use flexbody_fem::{Dof, DofKind, DofMap, Model, Substructure, SystemMatrices};
 
 /// Point masses (lumped mass): every invariant has a closed form,
 /// `int f dm = sum_i m_i f(x_i)`.
@@ -78,7 +78,7 @@ fn floating_invariants(
 ) -> (Substructure, ElasticBasis, MassInvariants) {
     let basis = elastic_basis(&sub, &body).unwrap();
     assert!(basis.floating);
-    let inv = mass_invariants(&sub, &basis).unwrap();
+    let inv = mass_invariants(&sub, None, &basis).unwrap();
     (sub, basis, inv)
 }
 
@@ -178,23 +178,136 @@ fn invariants_of_point_masses_have_their_closed_forms() {
     }
 }
 
-/// A free steel C3D8 block of 3 x 2 x 2 elements (1.2 x 0.5 x 0.4 m)
-/// and its free reduction with 6 elastic modes.
-fn solid_block() -> (Substructure, ReducedBody) {
+/// The block of [`solid_block`]: 1.2 x 0.5 x 0.4 m, origin (-0.3, 0.1, 0).
+const BLOCK: ([f64; 3], [f64; 3]) = ([-0.3, 0.1, 0.0], [1.2, 0.5, 0.4]);
+const STEEL_DENSITY: f64 = 7850.0;
+
+/// A steel C3D8 block of 3 x 2 x 2 elements ([`BLOCK`]), its face at the
+/// smallest x clamped if `clamped`, and its model.
+fn block_model(clamped: bool) -> (Model, Substructure) {
     use flexbody_fem::mesh::BrickBlock;
-    use flexbody_fem::{Material, Model};
+    use flexbody_fem::Material;
     let grid = BrickBlock {
         cells: [3, 2, 2],
-        origin: [-0.3, 0.1, 0.0],
-        size: [1.2, 0.5, 0.4],
+        origin: BLOCK.0,
+        size: BLOCK.1,
     };
     let nodes = grid.nodes();
-    let elements = grid.elements(&Material::new(2.1e11, 0.3, 7850.0).unwrap());
-    let model = Model::of(nodes, elements).build().unwrap();
+    let fixed = if clamped {
+        nodes
+            .iter()
+            .filter(|n| n.coords[0] == BLOCK.0[0])
+            .flat_map(|n| DofKind::ALL[..3].iter().map(move |k| Dof::new(n.id, *k)))
+            .collect()
+    } else {
+        vec![]
+    };
+    let elements = grid.elements(&Material::new(2.1e11, 0.3, STEEL_DENSITY).unwrap());
+    let model = Model::of(nodes, elements).fixed(fixed).build().unwrap();
     let sub = Substructure::from_model(&model).unwrap();
+    (model, sub)
+}
+
+/// The free block of [`block_model`] and its free reduction with 6
+/// elastic modes.
+fn solid_block() -> (Substructure, ReducedBody) {
+    let (_, sub) = block_model(false);
     let spec = crate::Reduction::new(Method::Free, 12, vec![]);
     let body = crate::reduce(&sub, &spec).unwrap();
     (sub, body)
+}
+
+/// Every invariant of `a` against `b`, relative to the largest entry of
+/// each (at least 1); the worst.
+fn largest_difference(a: &MassInvariants, b: &MassInvariants) -> (f64, &'static str) {
+    let mats = |i: &MassInvariants| -> Vec<(&'static str, Mat<f64>)> {
+        let small = |m: &[[f64; 3]; 3]| Mat::from_fn(3, 3, |r, c| m[r][c]);
+        let mut v = vec![
+            ("mass", Mat::from_fn(1, 1, |_, _| i.mass)),
+            ("mdCM", Mat::from_fn(3, 1, |r, _| i.md_cm[r])),
+            ("J", small(&i.j)),
+            ("Ct", i.ct.clone()),
+            ("Cr", i.cr.clone()),
+            ("Me", i.me.clone()),
+            ("Gr", i.gr.clone()),
+            ("Ge", i.ge.clone()),
+            ("Oe", i.oe.clone()),
+        ];
+        for (k, j1) in i.j1.iter().enumerate() {
+            v.push(("J m1", small(j1)));
+            v.push(("mdCM m1", Mat::from_fn(3, 1, |r, _| i.md_cm1[k][r])));
+            v.push(("Cr m1", i.cr1[k].clone()));
+            v.push(("Oe m1", i.oe1[k].clone()));
+        }
+        v
+    };
+    let mut worst = (0.0, "");
+    for ((name, x), (_, y)) in mats(a).into_iter().zip(mats(b)) {
+        // Mean axes make Ct and mdCM m1 vanish: round-off against 1 (their
+        // scale is sqrt(mass), 43 kg^0.5).
+        let scale = x.norm_max().max(y.norm_max()).max(1.0);
+        let d = (&x - &y).norm_max() / scale;
+        if d > worst.0 {
+            worst = (d, name);
+        }
+    }
+    worst
+}
+
+#[test]
+fn a_solid_mesh_and_its_mass_matrix_give_the_same_invariants() {
+    // Free: both routes integrate the whole body exactly (isoparametric
+    // elements, consistent mass), the mesh one element by element.
+    let (model, sub) = block_model(false);
+    let body = crate::reduce(&sub, &crate::Reduction::new(Method::Free, 12, vec![])).unwrap();
+    let basis = elastic_basis(&sub, &body).unwrap();
+    let from_mesh = mass_invariants(&sub, Some(&model), &basis).unwrap();
+    let from_matrix = mass_invariants(&sub, None, &basis).unwrap();
+    let (d, name) = largest_difference(&from_mesh, &from_matrix);
+    assert!(d < 1e-12, "{name}: {d:e}");
+}
+
+#[test]
+fn a_clamped_body_keeps_the_mass_of_its_fixed_nodes() {
+    // The mass matrix of the free DOFs lost the clamped face's share; the
+    // mesh has it all: the block's rho V, its first moment rho V c and its
+    // inertia tensor about the origin, in closed form.
+    let (model, sub) = block_model(true);
+    let body = crate::reduce(&sub, &crate::Reduction::new(Method::Free, 6, vec![])).unwrap();
+    let basis = elastic_basis(&sub, &body).unwrap();
+    assert!(!basis.floating);
+    let inv = mass_invariants(&sub, Some(&model), &basis).unwrap();
+    let (lo, size) = BLOCK;
+    let volume: f64 = size.iter().product();
+    let mass = STEEL_DENSITY * volume;
+    assert!(
+        (inv.mass - mass).abs() < 1e-12 * mass,
+        "{} against {mass}",
+        inv.mass
+    );
+    let centre: [f64; 3] = std::array::from_fn(|a| lo[a] + size[a] / 2.0);
+    // int x_a x_b dV over the box: V (c_a c_b + delta_ab s_a^2 / 12).
+    let second = |a: usize, b: usize| {
+        mass * (centre[a] * centre[b]
+            + if a == b {
+                size[a] * size[a] / 12.0
+            } else {
+                0.0
+            })
+    };
+    for (a, c) in centre.iter().enumerate() {
+        assert!((inv.md_cm[a] - mass * c).abs() < 1e-12 * mass);
+        for b in 0..3 {
+            let trace: f64 = (0..3).map(|c| second(c, c)).sum();
+            let want = if a == b { trace } else { 0.0 } - second(a, b);
+            assert!((inv.j[a][b] - want).abs() < 1e-12 * trace, "J {a} {b}");
+        }
+    }
+    // The matrix alone has less: the fixed nodes' own mass is gone.
+    let partial = mass_invariants(&sub, None, &basis).unwrap();
+    assert!(partial.mass < 0.95 * mass, "{}", partial.mass);
+    // The elastic part is the same: Me from the same modes.
+    assert!((&inv.me - &partial.me).norm_max() < 1e-12);
 }
 
 #[test]
