@@ -2,8 +2,7 @@
 //! flexbody.
 
 use super::support::{
-    hex_beam, hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, run_script,
-    skip_without_peer,
+    hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, run_script, skip_without_peer,
 };
 use flexbody::fem::{Dof, DofKind};
 use flexbody::reduce::{Method, ReducedBody};
@@ -11,18 +10,23 @@ use std::path::PathBuf;
 
 /// Exudyn, a real MBS client, against flexbody: `scripts/exudyn_check.py`
 /// reads the SID file that `flexbody reduce --format sid` writes for the
-/// free C3D8 bar `hex_beam` (free-residual, tip node 13, 4 eigenmodes; 7
-/// elastic coordinates, mean axes), builds an `ObjectFFRFreducedOrder` from
-/// its invariants alone, and compares it with the same body built by
-/// Exudyn's `FEMinterface` from the full M, K and mode shapes, and with
-/// flexbody's own frequencies and trapezoidal-rule time response of the tip
-/// to a harmonic force (frame held fixed: `Me q'' + Ke q = Phi_tip^T f(t)`),
-/// and the two Exudyn bodies in a short free tumble. The tolerances and
-/// the figures measured are in the script.
+/// C3D8 bar `hex_beam`, builds an `ObjectFFRFreducedOrder` from its
+/// invariants alone, and compares it with the same body built by Exudyn's
+/// `FEMinterface` from the full M, K and mode shapes, and with flexbody's
+/// own frequencies and trapezoidal-rule time response of the tip to a
+/// harmonic force (frame held fixed: `Me q'' + Ke q = Phi_tip^T f(t)`); the
+/// two Exudyn bodies then move at large: a free tumble (whose energy and
+/// momentum must hold to the integrator's second order), and a pendulum
+/// swinging under gravity from the tip node on a spherical joint, or, for
+/// a clamped body, a hub turning under gravity. Three bodies
+/// ([`CASES`]): free-residual and Craig-Bampton of the free bar, and
+/// Craig-Bampton of the bar clamped at x = 0, whose full M holds the
+/// clamped nodes' mass (the SID must too). The tolerances and the
+/// figures measured are in the script.
 ///
 /// Skipped, with a message, when `python3` cannot import exudyn, numpy and
 /// scipy, unless [`peers_required`](super::support::peers_required). With `FLEXBODY_EXUDYN_DIR` set, the
-/// files are kept there (see [`write_exudyn_data`]).
+/// files are kept there, one folder per case (see [`write_exudyn_data`]).
 #[test]
 fn exudyn_agrees_with_flexbody() {
     if let Err(why) = python_imports("exudyn, numpy, scipy") {
@@ -36,32 +40,109 @@ fn exudyn_agrees_with_flexbody() {
     let dir = std::env::var_os("FLEXBODY_EXUDYN_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| temporary.path().to_path_buf());
-    write_exudyn_data(&dir);
-    run_script("exudyn_check.py", &[&dir]);
+    for case in &CASES {
+        let folder = dir.join(case.name);
+        write_exudyn_data(&folder, case);
+        run_script("exudyn_check.py", &[&folder]);
+    }
+}
+
+/// One body of the Exudyn check.
+struct Case {
+    name: &'static str,
+    /// `--method` of `flexbody reduce`.
+    method: &'static str,
+    modes: usize,
+    interface: &'static [u64],
+    /// Every DOF of the nodes at x = 0 fixed.
+    clamped: bool,
+}
+
+/// The tip node (x = 0.6 m), where the force acts and the pendulum hangs.
+const TIP: u64 = 13;
+
+const CASES: [Case; 3] = [
+    Case {
+        name: "free_residual",
+        method: "free-residual",
+        modes: 4,
+        interface: &[TIP],
+        clamped: false,
+    },
+    Case {
+        name: "craig_bampton",
+        method: "craig-bampton",
+        modes: 3,
+        interface: &[1, 27, 79, TIP],
+        clamped: false,
+    },
+    Case {
+        name: "clamped_craig_bampton",
+        method: "craig-bampton",
+        modes: 4,
+        interface: &[TIP],
+        clamped: true,
+    },
+];
+
+/// The hex_beam deck, clamped at x = 0 if `clamped`, written into `dir`.
+fn case_deck(dir: &std::path::Path, clamped: bool) -> PathBuf {
+    let text = std::fs::read_to_string(hex_beam_deck()).unwrap();
+    if !clamped {
+        return hex_beam_deck();
+    }
+    let root: Vec<&str> = text
+        .lines()
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split(',').map(str::trim).collect();
+            (f.len() == 4 && f[1] == "0.0").then_some(f[0])
+        })
+        .collect();
+    assert_eq!(root.len(), 4, "the bar's end face");
+    let boundary: String = root.iter().map(|n| format!("{n}, 1, 3\n")).collect();
+    let deck = dir.join("clamped.inp");
+    let at = text.find("*STEP").unwrap();
+    std::fs::write(
+        &deck,
+        format!("{}*BOUNDARY\n{boundary}{}", &text[..at], &text[at..]),
+    )
+    .unwrap();
+    deck
 }
 
 /// Writes what `scripts/exudyn_check.py` reads into `dir`: `body.sid`
 /// (written by the `flexbody reduce --format sid` command), `nodes.txt`
 /// (x y z per node, DOF order), `mass.mtx` and `stiffness.mtx` (full M and
-/// K), `modes.mtx` (the SID's elastic mode shapes Phi, m x nq), and
-/// `flexbody.json` (frequencies, load, settings, tip node, and the tip
-/// displacement history of flexbody's trapezoidal-rule time response).
-fn write_exudyn_data(dir: &std::path::Path) {
+/// K of the unconstrained mesh: the clamped nodes too), `modes.mtx` (the
+/// SID's elastic mode shapes Phi on those DOFs, zero where clamped,
+/// m x nq), and `flexbody.json` (the case, frequencies, load, settings,
+/// tip node, and the tip displacement history of flexbody's
+/// trapezoidal-rule time response).
+fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
+    use flexbody::fem::{Model, Substructure};
+    use flexbody::input::{load, MatrixFiles};
     use flexbody::mbs::time::{simulate, Excitation, History, TimeForce, TimeSettings};
     use flexbody::mbs::{Endpoint, FlexibleBody, System};
     use flexbody::reduce::ffrf::elastic_basis;
     use flexbody::reduce::ModeKind;
     std::fs::create_dir_all(dir).unwrap();
-    let (sub, _) = hex_beam();
-    let tip = 13;
+    let deck = case_deck(dir, case.clamped);
+    let interface: Vec<String> = case.interface.iter().map(u64::to_string).collect();
     run_ok(&reduce_args(
-        hex_beam_deck(),
-        "free-residual",
-        "4",
+        &deck,
+        case.method,
+        &case.modes.to_string(),
         dir.join("body.sid"),
-        &["--interface", &tip.to_string(), "--format", "sid"],
+        &["--interface", &interface.join(","), "--format", "sid"],
     ));
-    let body = reduce_with(&sub, Method::FreeResidual, 4, &[tip]);
+    let c = load(&deck, &MatrixFiles::default()).unwrap();
+    let (sub, model) = (c.sub, c.model.unwrap());
+    let method = match case.method {
+        "free-residual" => Method::FreeResidual,
+        _ => Method::CraigBampton,
+    };
+    let body = reduce_with(&sub, method, case.modes, case.interface);
+    let tip = TIP;
     let basis = elastic_basis(&sub, &body).unwrap();
     let nq = basis.shapes.ncols();
     let elastic = ReducedBody {
@@ -110,7 +191,17 @@ fn write_exudyn_data(dir: &std::path::Path) {
         .iter()
         .map(|s| (0..nq).map(|k| basis.shapes[(uz, k)] * s.x[k]).sum())
         .collect();
-    // Full matrices and the mode shapes.
+    // Full matrices of the mesh without its boundary conditions, and the
+    // mode shapes on their DOFs (zero where clamped).
+    let free_model = Model::of(model.nodes().to_vec(), model.elements().to_vec())
+        .build()
+        .unwrap();
+    let full = Substructure::from_model(&free_model).unwrap();
+    let shapes = faer::Mat::from_fn(full.dof_map.len(), nq, |i, k| {
+        sub.dof_map
+            .index_of(full.dof_map.dof(i))
+            .map_or(0.0, |j| basis.shapes[(j, k)])
+    });
     let coordinate = |m: &flexbody::linalg::SparseMat| {
         let t = flexbody::linalg::sparse::triplets_of(m, 1.0);
         let mut s = format!(
@@ -124,36 +215,39 @@ fn write_exudyn_data(dir: &std::path::Path) {
         }
         s
     };
-    std::fs::write(dir.join("mass.mtx"), coordinate(&sub.matrices.mass)).unwrap();
+    std::fs::write(dir.join("mass.mtx"), coordinate(&full.matrices.mass)).unwrap();
     std::fs::write(
         dir.join("stiffness.mtx"),
-        coordinate(&sub.matrices.stiffness),
+        coordinate(&full.matrices.stiffness),
     )
     .unwrap();
     let mut modes = format!(
         "%%MatrixMarket matrix array real general\n{} {}\n",
-        basis.shapes.nrows(),
+        shapes.nrows(),
         nq
     );
     for k in 0..nq {
-        for i in 0..basis.shapes.nrows() {
-            modes.push_str(&format!("{:e}\n", basis.shapes[(i, k)]));
+        for i in 0..shapes.nrows() {
+            modes.push_str(&format!("{:e}\n", shapes[(i, k)]));
         }
     }
     std::fs::write(dir.join("modes.mtx"), modes).unwrap();
     let mut nodes = String::new();
     let mut tip_index = None;
-    for (p, i) in (0..sub.dof_map.len()).step_by(3).enumerate() {
-        let d = sub.dof_map.dof(i);
+    for (p, i) in (0..full.dof_map.len()).step_by(3).enumerate() {
+        let d = full.dof_map.dof(i);
         assert_eq!(d.kind, DofKind::Ux, "3 translations per node");
         if d.node == tip {
             tip_index = Some(p);
         }
-        let x = sub.node_coordinates(d.node).unwrap();
+        let x = full.node_coordinates(d.node).unwrap();
         nodes.push_str(&format!("{:e} {:e} {:e}\n", x[0], x[1], x[2]));
     }
     std::fs::write(dir.join("nodes.txt"), nodes).unwrap();
     let doc = serde_json::json!({
+        "case": case.name,
+        "method": case.method,
+        "clamped": case.clamped,
         "frequencies_hz": basis.frequencies_hz,
         "tip_node_index": tip_index.unwrap(),
         "tip_node_id": tip,

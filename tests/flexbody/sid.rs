@@ -317,5 +317,8 @@ fn beam_invariants_equal_an_independent_numpy_integration() {
     let out = run_script("beam_invariants.py", &cases);
     // The clamped node's share included: 157 kg, not the 147.13 kg of the
     // free DOFs' mass matrix.
-    assert!(out.contains("welib_clamped.json: mass 157.000000 kg"), "{out}");
+    assert!(
+        out.contains("welib_clamped.json: mass 157.000000 kg"),
+        "{out}"
+    );
 }
