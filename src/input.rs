@@ -47,6 +47,10 @@ pub struct MatrixFiles {
     pub mass: Option<PathBuf>,
     /// DOF map: one `node dof` line per equation (with a `.mtx` stiffness).
     pub dofs: Option<PathBuf>,
+    /// Node coordinates, one `node x y z` line per node
+    /// ([`read_node_coordinates`](crate::io::coordinates::read_node_coordinates)),
+    /// for CalculiX or Matrix Market matrices.
+    pub coords: Option<PathBuf>,
 }
 
 /// Errors naming the input that is wrong.
@@ -63,6 +67,8 @@ pub enum LoadError {
     UnknownType(PathBuf),
     #[error("{}: Matrix Market input needs --mass M.mtx and --dofs DOFS.txt", .0.display())]
     MissingMatrixFiles(PathBuf),
+    #[error("{}: --coords gives node coordinates to matrix input (.sti, .mtx); this model has its own mesh", .0.display())]
+    CoordsWithMesh(PathBuf),
     #[error("interface '{name}' is neither a node set nor a node number; {sets}")]
     UnknownInterface { name: String, sets: String },
     #[error("interface node {0} has no DOFs")]
@@ -99,6 +105,9 @@ pub fn load_with(
         let total = start.elapsed().as_secs_f64();
         (read_time.get(), total - read_time.get())
     };
+    if files_with_mesh(&ext) && matrices.coords.is_some() {
+        return Err(LoadError::CoordsWithMesh(path.to_path_buf()));
+    }
     match ext.as_str() {
         "toml" => {
             let file = read_model_file_with(path, options)?;
@@ -133,28 +142,45 @@ pub fn load_with(
         }
         "sti" => {
             let m = crate::io::matrices::read_calculix_matrices(&path.with_extension(""))?;
-            Ok(from_matrices(path, m, start.elapsed().as_secs_f64()))
+            from_matrices(path, m, matrices, start)
         }
         "mtx" => {
             let (Some(mass), Some(dofs)) = (&matrices.mass, &matrices.dofs) else {
                 return Err(LoadError::MissingMatrixFiles(path.to_path_buf()));
             };
             let m = crate::io::matrices::read_matrix_market(path, mass, dofs)?;
-            Ok(from_matrices(path, m, start.elapsed().as_secs_f64()))
+            from_matrices(path, m, matrices, start)
         }
         _ => Err(LoadError::UnknownType(path.to_path_buf())),
     }
 }
 
-fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64) -> Component {
+/// Whether an input of extension `ext` is a mesh (a model file or a deck).
+fn files_with_mesh(ext: &str) -> bool {
+    matches!(ext, "toml" | "inp")
+}
+
+/// The component of matrices `m` read from `path`, with the node
+/// coordinates of `files.coords` if given.
+fn from_matrices(
+    path: &Path,
+    m: crate::io::matrices::MatrixModel,
+    files: &MatrixFiles,
+    start: std::time::Instant,
+) -> Result<Component, LoadError> {
+    let coordinates = match &files.coords {
+        Some(coords) => crate::io::coordinates::read_node_coordinates(coords, &m.dof_map)?,
+        None => Default::default(),
+    };
+    let seconds = start.elapsed().as_secs_f64();
     let matrices = SystemMatrices {
         stiffness: m.stiffness,
         mass: m.mass,
         damping: None,
     };
-    Component {
+    Ok(Component {
         path: path.to_path_buf(),
-        sub: Substructure::from_matrices(m.dof_map, matrices, Default::default()),
+        sub: Substructure::from_matrices(m.dof_map, matrices, coordinates),
         model: None,
         file: None,
         element_sets: BTreeMap::new(),
@@ -163,7 +189,7 @@ fn from_matrices(path: &Path, m: crate::io::matrices::MatrixModel, seconds: f64)
         notes: vec![],
         unknown_keywords: UnknownKeywords::default(),
         timing: (seconds, 0.0),
-    }
+    })
 }
 
 impl Component {

@@ -229,6 +229,10 @@ struct MatrixArgs {
     /// DOF map of the matrices: one `node dof` line per equation (with a .mtx stiffness).
     #[arg(long)]
     dofs: Option<PathBuf>,
+    /// Node coordinates for matrix input: one `node x y z` line per node (m),
+    /// for rigid-body modes from geometry and a SID.
+    #[arg(long)]
+    coords: Option<PathBuf>,
 }
 
 impl MatrixArgs {
@@ -236,6 +240,7 @@ impl MatrixArgs {
         input::MatrixFiles {
             mass: self.mass.clone(),
             dofs: self.dofs.clone(),
+            coords: self.coords.clone(),
         }
     }
 }

@@ -9,6 +9,7 @@ mod cli;
 mod cli_errors;
 mod cli_lowest_below;
 mod cli_modes;
+mod coordinates;
 mod damping;
 mod deck_constraints;
 mod deck_steps;

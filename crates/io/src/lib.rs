@@ -9,6 +9,7 @@
 //! s, N, Pa, rad, rad/s). Every error names the file and, where it comes from
 //! a line of the file, the line.
 
+pub mod coordinates;
 pub mod deck;
 pub mod matrices;
 pub mod model_toml;
