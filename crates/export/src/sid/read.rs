@@ -708,3 +708,94 @@ fn parse_blocks(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The block `name` of `body` (header and entries) read by `dialect`'s
+    /// rules as a 2 x 2 block of 1 coordinate.
+    fn block(dialect: Dialect, name: &str, body: &str) -> Result<Taylor, ParseError> {
+        let text = format!("{name}\n{body}\nend {name}\n");
+        let mut lines = Lines::new(&text);
+        let (opened, _) = lines.next(name, 1)?;
+        parse_taylor(&mut lines, dialect.rules(), name, opened, 1, (2, 2))
+    }
+
+    const HEAD: &str = "order = 1\nnrow = 2\nncol = 2\nnq = 1\nnqn = 0\n";
+
+    #[test]
+    fn structures_fill_what_they_do_not_list() {
+        // Symmetric: m0's lower triangle, mirrored; m1 whole.
+        let entries = "m0(1, 1) = 1\nm0(2, 1) = 2\nm0(2, 2) = 3\n\
+                       m1(1, 1, 1) = 4\nm1(1, 2, 1) = 5\nm1(2, 1, 1) = 5\nm1(2, 2, 1) = 6";
+        let t = block(
+            Dialect::Welib,
+            "Me",
+            &format!("{HEAD}structure = 2\n{entries}"),
+        )
+        .unwrap();
+        assert_eq!(t.m0[(0, 1)], 2.0);
+        assert_eq!(t.m1[0][(1, 0)], 5.0);
+        assert_eq!(t.structure, FULL);
+        // Identity: no entries, m1 zero; diagonal: the rest zero.
+        let t = block(Dialect::PySid, "AP", &format!("{HEAD}structure = 4")).unwrap();
+        assert_eq!(t.m0, Mat::<f64>::identity(2, 2));
+        assert_eq!(t.m1[0].norm_max(), 0.0);
+        let t = block(
+            Dialect::PySid,
+            "Ke",
+            &format!("{HEAD}structure = 1\nm0(2, 2) = 7.5D+00"),
+        )
+        .unwrap();
+        assert_eq!((t.m0[(1, 1)], t.m0[(0, 0)], t.m0[(1, 0)]), (7.5, 0.0, 0.0));
+    }
+
+    #[test]
+    fn entries_outside_their_structure_are_refused_at_their_line() {
+        let e = block(
+            Dialect::PySid,
+            "Ke",
+            &format!("{HEAD}structure = 1\nm0(1, 2) = 1"),
+        )
+        .unwrap_err();
+        assert_eq!(e.line, 8, "{e}");
+        assert!(e.message.contains("off the diagonal"), "{e}");
+        let e = block(
+            Dialect::Welib,
+            "De",
+            &format!("{HEAD}structure = 0\nm0(1, 1) = 0\nm0(1, 2) = 0\nm0(2, 1) = 1\nm0(2, 2) = 0"),
+        )
+        .unwrap_err();
+        assert!(e.message.contains("structure 0 (zero)"), "{e}");
+        // welib lists every entry of its structure: one missing is refused.
+        let constant = "order = 0\nnrow = 2\nncol = 2\nnq = 0\nnqn = 0\nstructure = 2\n";
+        let e = block(
+            Dialect::Welib,
+            "Me",
+            &format!("{constant}m0(1, 1) = 1\nm0(2, 2) = 3"),
+        )
+        .unwrap_err();
+        assert!(e.message.contains("2 m0 entries, expected 3"), "{e}");
+        // PY_SID's m1 is (row, mode, column): mode 2 of 1 is outside.
+        let e = block(
+            Dialect::PySid,
+            "AP",
+            &format!("{HEAD}structure = 3\nm1(1, 2, 1) = 1"),
+        )
+        .unwrap_err();
+        assert!(
+            e.message.contains("outside 2 x 1 x 2 (row, mode, column)"),
+            "{e}"
+        );
+        // A repeat hides nothing in a sparse dialect either.
+        let e = block(
+            Dialect::PySid,
+            "AP",
+            &format!("{HEAD}structure = 3\nm0(1, 1) = 1\nm0(1, 1) = 1"),
+        )
+        .unwrap_err();
+        assert_eq!(e.line, 9, "{e}");
+        assert!(e.message.contains("given twice (first at line 8)"), "{e}");
+    }
+}
