@@ -318,7 +318,10 @@ fn convert_refuses_what_a_format_cannot_hold() {
     // A SID has no full basis.
     fails_with(
         &args(&py_sid(), "json", &out),
-        &["a SID cannot become a json body", "flexbody reduce MODEL"],
+        &[
+            "a SID cannot be converted to the json format",
+            "flexbody reduce MODEL",
+        ],
     );
     assert!(!out.exists());
     // A body's SID needs the model.
@@ -328,7 +331,10 @@ fn convert_refuses_what_a_format_cannot_hold() {
     let sid = dir.path().join("b.sid");
     fails_with(
         &args(&json, "sid", &sid),
-        &["a reduced body cannot become a SID", "--format sid"],
+        &[
+            "a reduced body cannot be converted to a SID",
+            "--format sid",
+        ],
     );
     assert!(!sid.exists());
 }

@@ -216,13 +216,13 @@ pub fn convert(input: &Path, format: Format, out: &Path) -> Result<AnyBody, Expo
         (AnyBody::Sid(sid, _), Format::Sid) => write_sid(sid, out)?,
         (AnyBody::Sid(..), _) => {
             return Err(ExportError::Model(format!(
-                "{}: a SID cannot become a {format} body: it holds the floating-frame invariants, not the full basis T and the reduced matrices that a {format} body holds; reduce the model again with `flexbody reduce MODEL ... --format {format}`, or convert to `--format sid`",
+                "{}: a SID cannot be converted to the {format} format: it holds the floating-frame invariants, not the full basis T and the reduced matrices that format holds; reduce the model again with `flexbody reduce MODEL ... --format {format}`, or convert to `--format sid`",
                 input.display()
             )))
         }
         (AnyBody::Reduced(_), Format::Sid) => {
             return Err(ExportError::Model(format!(
-                "{}: a reduced body cannot become a SID: the SID's invariants (mass, inertia, Ct, Cr, Gr, ...) need the model's mass matrix and node coordinates, which the body does not hold; write the SID from the model with `flexbody reduce MODEL ... --format sid`",
+                "{}: a reduced body cannot be converted to a SID: the SID's invariants (mass, inertia, Ct, Cr, Gr, ...) need the model's mass matrix and node coordinates, which the body does not hold; write the SID from the model with `flexbody reduce MODEL ... --format sid`",
                 input.display()
             )))
         }
