@@ -95,7 +95,7 @@ fn sniff(head: &str, ext: &str) -> Option<FileKind> {
         if line.starts_with("%%MatrixMarket") {
             return Some(FileKind::MatrixMarket);
         }
-        if line.eq_ignore_ascii_case("part") {
+        if export::sid::looks_like_sid(head) {
             return Some(FileKind::Sid);
         }
         if line.starts_with('{') {
@@ -205,6 +205,12 @@ impl Takes {
             FileKind::MtxFolder,
         ],
         what: "a reduced body (JSON, SID or a Matrix Market folder): what `reduce` writes",
+    };
+    /// `convert`: a reduced body, as `inspect` takes it.
+    pub const CONVERT: Takes = Takes {
+        command: "convert",
+        kinds: Takes::INSPECT.kinds,
+        what: Takes::INSPECT.what,
     };
 
     /// Refuses `path` when it is a recognisable kind of file this command

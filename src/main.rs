@@ -169,6 +169,20 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Convert a reduced-body file: a SID of any dialect (flexbody, welib,
+    /// PY_SID) to flexbody's SID; a JSON body to a Matrix Market folder and
+    /// back.
+    Convert {
+        /// Reduced-body file or Matrix Market folder.
+        input: PathBuf,
+        /// Format to write: sid (from a SID), json or mtx (from a JSON or
+        /// Matrix Market body).
+        #[arg(long, value_parser = parse_format)]
+        format: export::Format,
+        /// File to write (a folder for --format mtx).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Read and assemble a model; print its size, sets, couplings, materials, sections, fixed DOFs and mass, and the time and memory it took (with --factor, the size of its sparse factor).
     Info {
         /// Model file (.toml), deck (.inp), CalculiX matrices (job.sti) or Matrix Market stiffness (.mtx).
@@ -394,6 +408,17 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             } else {
                 say!("{}", read.summary());
             }
+            Ok(())
+        }
+        Command::Convert { input, format, out } => {
+            Takes::CONVERT.check(&input)?;
+            let out = output(out)?;
+            let read = export::convert(&input, format, &out)?;
+            let from = match &read {
+                export::AnyBody::Sid(_, dialect) => format!("SID, {dialect}"),
+                export::AnyBody::Reduced(_) => "reduced body".into(),
+            };
+            say!("wrote {} ({format}, from a {from})", out.display());
             Ok(())
         }
         Command::Simulate { model, out, full } => {

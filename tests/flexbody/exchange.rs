@@ -62,7 +62,7 @@ fn sid_round_trip_keeps_every_number() {
     write_sid(&sid, &path).unwrap();
     let back = read_sid(&path).unwrap();
     assert_eq!(back, output::sid(&sub, Some(&model), &body).unwrap());
-    assert!(matches!(read_any(&path).unwrap(), AnyBody::Sid(_)));
+    assert!(matches!(read_any(&path).unwrap(), AnyBody::Sid(..)));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     let text = std::fs::read_to_string(&path).unwrap();
     for block in [

@@ -29,6 +29,7 @@ mod plots;
 mod report_html;
 mod section_forces;
 mod sid;
+mod sid_dialects;
 mod strict_toml;
 mod study;
 mod support;

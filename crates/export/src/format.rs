@@ -1,5 +1,6 @@
 //! Choosing a reduced-body format: [`write()`] by [`Format`], [`read_any`] by
-//! what the path holds, and [`summary`] for `flexbody inspect`.
+//! what the path holds, [`summary`] for `flexbody inspect` and [`convert`]
+//! for `flexbody convert`.
 
 use crate::sid::{self, write_sid, Sid};
 use crate::{mtx, write_json, ExportError};
@@ -104,8 +105,9 @@ pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(),
 pub enum AnyBody {
     /// From JSON or a Matrix Market folder: the full reduced body.
     Reduced(Box<ReducedBody>),
-    /// From a SID file: the FFRF description (no full basis).
-    Sid(Box<Sid>),
+    /// From a SID file: the FFRF description (no full basis), and the
+    /// dialect the file was written in.
+    Sid(Box<Sid>, sid::Dialect),
 }
 
 impl AnyBody {
@@ -113,7 +115,7 @@ impl AnyBody {
     pub fn summary(&self) -> String {
         match self {
             AnyBody::Reduced(b) => summary(b),
-            AnyBody::Sid(s) => sid_summary(s),
+            AnyBody::Sid(s, dialect) => sid_summary(s, *dialect),
         }
     }
 
@@ -122,11 +124,11 @@ impl AnyBody {
     /// basis holds no rigid translation), `interface_nodes`,
     /// `frequencies_hz` (null where they cannot be computed, with
     /// `frequency_error`); a reduced body adds `method`, `dofs` and
-    /// `interface_dofs`, a SID `center_of_mass_m`.
+    /// `interface_dofs`, a SID `dialect` and `center_of_mass_m`.
     pub fn summary_json(&self) -> serde_json::Value {
         let (frequencies, error) = match self {
             AnyBody::Reduced(b) => split(b.frequencies_hz()),
-            AnyBody::Sid(s) => split(s.frequencies_hz()),
+            AnyBody::Sid(s, _) => split(s.frequencies_hz()),
         };
         let mut doc = match self {
             AnyBody::Reduced(body) => {
@@ -141,8 +143,9 @@ impl AnyBody {
                     "interface_dofs": body.interface.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
                 })
             }
-            AnyBody::Sid(sid) => serde_json::json!({
+            AnyBody::Sid(sid, dialect) => serde_json::json!({
                 "format": "sid",
+                "dialect": dialect.name(),
                 "r": sid.nq(),
                 "mass_kg": sid.refmod.mass,
                 "center_of_mass_m": sid.center_of_mass(),
@@ -176,25 +179,59 @@ fn body_mass(body: &ReducedBody) -> Option<f64> {
 
 /// Reads a reduced body from `path`, recognising the format: a folder (or
 /// its `index.json`) is a Matrix Market body, a file whose first significant
-/// line is `part` is a SID, any other file is read as JSON. The file is
-/// read once, whole (as [`crate::read_json`] reads it).
+/// line is `part` or a PY_SID counts line ([`sid::looks_like_sid`]), or
+/// named `.sid` or `.SID_FEM` and not a JSON document, is a SID of any
+/// [`sid::Dialect`], any other file is read as JSON. The file is read
+/// once, whole (as [`crate::read_json`] reads it).
 pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     if path.is_dir() {
         return mtx::read_mtx(path).map(|b| AnyBody::Reduced(Box::new(b)));
     }
     let text = crate::read_json_text(path)?;
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'));
-    if first.is_some_and(|l| l.eq_ignore_ascii_case("part")) {
-        return sid::sid_from_text(path, &text).map(|s| AnyBody::Sid(Box::new(s)));
+    let sid_name = path.extension().is_some_and(|e| {
+        let e = e.to_string_lossy();
+        e.eq_ignore_ascii_case("sid") || e.eq_ignore_ascii_case("sid_fem")
+    });
+    if sid::looks_like_sid(&text) || (sid_name && !text.trim_start().starts_with('{')) {
+        return sid::sid_from_text(path, &text).map(|(s, d)| AnyBody::Sid(Box::new(s), d));
     }
     if text.contains(mtx::INDEX_FORMAT) {
         let dir = path.parent().unwrap_or(Path::new("."));
         return mtx::read_mtx(dir).map(|b| AnyBody::Reduced(Box::new(b)));
     }
     crate::json_from_text(path, &text).map(|b| AnyBody::Reduced(Box::new(b)))
+}
+
+/// Converts the reduced-body file (or Matrix Market folder) `input` to
+/// `format` at `out`, through the writers (atomic), and returns what was
+/// read. Supported: a SID of any dialect to flexbody's SID; a JSON body
+/// or a Matrix Market folder to JSON or Matrix Market (the index then
+/// without node coordinates or accuracy figures, which a body does not
+/// hold). Refused, saying why and what to do instead: a SID to JSON or
+/// Matrix Market (a SID has no full basis), and a JSON or Matrix Market
+/// body to SID (the invariants need the model).
+pub fn convert(input: &Path, format: Format, out: &Path) -> Result<AnyBody, ExportError> {
+    let body = read_any(input)?;
+    match (&body, format) {
+        (AnyBody::Sid(sid, _), Format::Sid) => write_sid(sid, out)?,
+        (AnyBody::Sid(..), _) => {
+            return Err(ExportError::Model(format!(
+                "{}: a SID cannot be converted to the {format} format: it holds the floating-frame invariants, not the full basis T and the reduced matrices that format holds; reduce the model again with `flexbody reduce MODEL ... --format {format}`, or convert to `--format sid`",
+                input.display()
+            )))
+        }
+        (AnyBody::Reduced(_), Format::Sid) => {
+            return Err(ExportError::Model(format!(
+                "{}: a reduced body cannot be converted to a SID: the SID's invariants (mass, inertia, Ct, Cr, Gr, ...) need the model's mass matrix and node coordinates, which the body does not hold; write the SID from the model with `flexbody reduce MODEL ... --format sid`",
+                input.display()
+            )))
+        }
+        (AnyBody::Reduced(b), Format::Json) => write_json(b, out)?,
+        (AnyBody::Reduced(b), Format::Mtx) => {
+            mtx::write_mtx(b, None, &mtx::Metadata::default(), out)?
+        }
+    }
+    Ok(body)
 }
 
 /// The mass of the rigid translation along `kind` that the basis spans,
@@ -282,9 +319,10 @@ pub fn summary(body: &ReducedBody) -> String {
     s
 }
 
-fn sid_summary(sid: &Sid) -> String {
+fn sid_summary(sid: &Sid, dialect: sid::Dialect) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "format: SID (floating frame of reference)");
+    let _ = writeln!(s, "dialect: {dialect}");
     let _ = writeln!(s, "r: {} elastic coordinates", sid.nq());
     let _ = writeln!(s, "mass: {:.6e} kg", sid.refmod.mass);
     let c = sid.center_of_mass();

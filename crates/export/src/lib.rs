@@ -35,8 +35,8 @@ pub mod vtk;
 pub mod vtu;
 mod zlib_blocks;
 
-pub use format::{read_any, summary, write, AnyBody, BodyOutput, Format};
-pub use sid::{read_sid, write_sid, Sid};
+pub use format::{convert, read_any, summary, write, AnyBody, BodyOutput, Format};
+pub use sid::{read_sid, write_sid, Dialect, Sid};
 
 use faer::Mat;
 use flexbody_fem::{Dof, DofMap};

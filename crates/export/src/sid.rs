@@ -21,17 +21,26 @@
 //! `m0( i, j) = v` and `m1( i, j, k) = v` (1-based). Field by field, with the
 //! formula behind each, in `docs/sid.md`. The invariants come computed, as
 //! a [`FloatingFrame`] of `flexbody_reduce::ffrf`, with the recovery rows:
-//! [`Sid::new`] lays them out as Taylor objects. The reader checks every
+//! [`Sid::new`] lays them out as Taylor objects.
+//!
+//! The reader ([`read_sid`], [`parse_sid`]) takes this layout and the
+//! dialects of two other writers, welib's and PY_SID's ([`Dialect`]),
+//! recognised from the text, and brings them to the conventions above
+//! (`J` 3 x 3, `m1` per coordinate, every entry stored). It checks every
 //! count and names the block and the line of what is wrong.
 
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::{Mat, MatRef};
-use flexbody_io::text::{excerpt, finite_number};
-use flexbody_linalg::memory::Budget;
 use flexbody_reduce::ffrf::FloatingFrame;
 use std::io::{self, Write};
 use std::path::Path;
+
+mod dialect;
+mod read;
+
+pub use dialect::{looks_like_sid, Dialect};
+pub use read::{parse_sid, parse_sid_dialect};
 
 /// `structure` code of a Taylor object whose entries are all listed.
 pub const FULL: usize = 3;
@@ -370,14 +379,21 @@ pub fn write_sid(sid: &Sid, path: &Path) -> Result<(), ExportError> {
     write_atomically(path, |out| sid.write_text(out))
 }
 
-/// Reads a SID file written by [`write_sid`].
+/// Reads a SID file of any [`Dialect`] (flexbody's own, as [`write_sid`]
+/// writes it, welib's or PY_SID's) into flexbody's conventions.
 pub fn read_sid(path: &Path) -> Result<Sid, ExportError> {
+    read_sid_dialect(path).map(|(sid, _)| sid)
+}
+
+/// [`read_sid`], with the dialect the file was written in.
+pub fn read_sid_dialect(path: &Path) -> Result<(Sid, Dialect), ExportError> {
     sid_from_text(path, &crate::read_text(path)?)
 }
 
-/// The SID in `text`, read from `path` (which errors name).
-pub(crate) fn sid_from_text(path: &Path, text: &str) -> Result<Sid, ExportError> {
-    parse_sid(text).map_err(|e| ExportError::Format {
+/// The SID in `text` and its dialect, read from `path` (which errors
+/// name).
+pub(crate) fn sid_from_text(path: &Path, text: &str) -> Result<(Sid, Dialect), ExportError> {
+    parse_sid_dialect(text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: e.to_string(),
     })
@@ -399,454 +415,4 @@ impl std::fmt::Display for ParseError {
             self.line, self.block, self.message
         )
     }
-}
-
-/// Line cursor over the significant lines of a SID text.
-struct Lines<'a> {
-    text: &'a str,
-    lines: std::iter::Enumerate<std::str::Lines<'a>>,
-}
-
-impl<'a> Lines<'a> {
-    fn new(text: &'a str) -> Self {
-        Self {
-            text,
-            lines: text.lines().enumerate(),
-        }
-    }
-
-    fn next(&mut self, block: &str, opened: usize) -> Result<(usize, &'a str), ParseError> {
-        for (i, l) in self.lines.by_ref() {
-            let l = l.trim();
-            if !l.is_empty() && !l.starts_with('#') && !l.starts_with('!') {
-                return Ok((i + 1, l));
-            }
-        }
-        Err(ParseError {
-            line: self.text.lines().count(),
-            block: block.to_string(),
-            message: format!("the file ends inside block '{block}' (opened at line {opened})"),
-        })
-    }
-
-    fn expect(&mut self, keyword: &str, block: &str, opened: usize) -> Result<usize, ParseError> {
-        let (n, l) = self.next(block, opened)?;
-        if l.eq_ignore_ascii_case(keyword) {
-            Ok(n)
-        } else {
-            Err(ParseError {
-                line: n,
-                block: block.to_string(),
-                message: format!("expected '{keyword}', found '{l}'", l = excerpt(l)),
-            })
-        }
-    }
-}
-
-fn key_value(l: &str) -> Option<(&str, &str)> {
-    let (k, v) = l.split_once('=')?;
-    Some((k.trim(), v.trim()))
-}
-
-/// `name(1, 2, 3)` -> ("name", [1, 2, 3]): a name and one to three
-/// indices.
-fn indexed(key: &str) -> Option<(&str, Indices)> {
-    let (name, rest) = key.split_once('(')?;
-    let inner = rest.strip_suffix(')')?;
-    let mut idx = Indices::default();
-    for s in inner.split(',') {
-        *idx.values.get_mut(idx.len)? = s.trim().parse().ok()?;
-        idx.len += 1;
-    }
-    Some((name.trim(), idx))
-}
-
-/// The indices of an entry `name(i, j, k)`, without a heap allocation
-/// (a SID holds millions of entries).
-#[derive(Default)]
-struct Indices {
-    values: [usize; 3],
-    len: usize,
-}
-
-impl Indices {
-    fn as_slice(&self) -> &[usize] {
-        &self.values[..self.len]
-    }
-}
-
-/// One block `name` (a Taylor expansion) of `nq` coordinates that must be
-/// `shape` (rows, columns; `usize::MAX` rows: any). Its shape and its
-/// count of entries are checked before storage is taken for it, and the
-/// storage against the memory left ([`Budget::MACHINE`]).
-fn parse_taylor(
-    lines: &mut Lines<'_>,
-    name: &str,
-    opened: usize,
-    nq: usize,
-    shape: (usize, usize),
-) -> Result<Taylor, ParseError> {
-    let err = |line: usize, message: String| ParseError {
-        line,
-        block: name.to_string(),
-        message,
-    };
-    let mut header = [None::<usize>; 6];
-    const KEYS: [&str; 6] = ["order", "nrow", "ncol", "nq", "nqn", "structure"];
-    let mut m0: Vec<(usize, usize, usize, f64)> = Vec::new();
-    let mut m1: Vec<(usize, usize, usize, usize, f64)> = Vec::new();
-    let end = format!("end {name}");
-    let end_line = loop {
-        let (n, l) = lines.next(name, opened)?;
-        if l.eq_ignore_ascii_case(&end) {
-            break n;
-        }
-        if l.starts_with("end ") || l.starts_with("new ") {
-            return Err(err(
-                n,
-                format!(
-                    "'{l}' before 'end {name}' (block opened at line {opened})",
-                    l = excerpt(l)
-                ),
-            ));
-        }
-        let (k, v) = key_value(l).ok_or_else(|| {
-            err(
-                n,
-                format!("expected 'key = value', found '{l}'", l = excerpt(l)),
-            )
-        })?;
-        if let Some(slot) = KEYS.iter().position(|key| k.eq_ignore_ascii_case(key)) {
-            if header[slot].is_some() {
-                return Err(err(n, format!("'{}' is given twice", KEYS[slot])));
-            }
-            header[slot] = Some(
-                v.parse()
-                    .map_err(|_| err(n, format!("{k} = '{v}' is not a count", v = excerpt(v))))?,
-            );
-            continue;
-        }
-        let (kind, idx) =
-            indexed(k).ok_or_else(|| err(n, format!("unknown entry '{k}'", k = excerpt(k))))?;
-        let value = finite_number(v).map_err(|m| err(n, m))?;
-        match (kind, idx.as_slice()) {
-            ("m0", [i, j]) => m0.push((n, *i, *j, value)),
-            ("m1", [i, j, k]) => m1.push((n, *i, *j, *k, value)),
-            _ => return Err(err(n, format!("unknown entry '{k}'", k = excerpt(k)))),
-        }
-    };
-    let mut h = [0usize; 6];
-    for (slot, key) in KEYS.iter().enumerate() {
-        h[slot] = header[slot].ok_or_else(|| err(end_line, format!("'{key}' is missing")))?;
-    }
-    let [order, nrow, ncol, tq, nqn, structure] = h;
-    if order > 1 {
-        return Err(err(
-            end_line,
-            format!("order {order} is not supported (0 or 1)"),
-        ));
-    }
-    if tq != nq {
-        return Err(err(
-            end_line,
-            format!("nq = {tq}, but refmod has nelastq = {nq}"),
-        ));
-    }
-    if structure != FULL && structure != ZERO {
-        return Err(err(
-            end_line,
-            format!("structure {structure} is not supported (0 or 3)"),
-        ));
-    }
-    let (rows, cols) = shape;
-    if (rows != usize::MAX && nrow != rows) || ncol != cols {
-        let rows = if rows == usize::MAX { nrow } else { rows };
-        return Err(err(
-            opened,
-            format!("is {nrow} x {ncol}, expected {rows} x {cols}"),
-        ));
-    }
-    let matrices = if order == 1 { nq + 1 } else { 1 };
-    let entries = nrow.checked_mul(ncol);
-    let bytes = entries
-        .and_then(|e| e.checked_mul(matrices))
-        .and_then(|e| e.checked_mul(std::mem::size_of::<f64>()));
-    let what = format!("{matrices} matrices of {nrow} x {ncol}");
-    Budget::MACHINE
-        .ensure(bytes.map_or(u64::MAX, |b| b as u64), &what)
-        .map_err(|e| err(opened, e.to_string()))?;
-    let entries = entries.unwrap_or(usize::MAX);
-    let expect = |count: usize, want: usize, what: &str| {
-        if count == want {
-            Ok(())
-        } else {
-            Err(err(end_line, format!("{count} {what} entries, expected {want} (nrow = {nrow}, ncol = {ncol}, nq = {nq}, structure = {structure})")))
-        }
-    };
-    let full = structure == FULL;
-    expect(m0.len(), if full { entries } else { 0 }, "m0")?;
-    expect(
-        m1.len(),
-        if full && order == 1 {
-            entries.saturating_mul(nq)
-        } else {
-            0
-        },
-        "m1",
-    )?;
-    // Every entry once: the counts matched, so a repeated entry hides a
-    // missing one. An entry not yet given is NaN (values read are finite),
-    // so a repeat is seen without a second table.
-    let unset = if full { f64::NAN } else { 0.0 };
-    let mut a0 = Mat::from_fn(nrow, ncol, |_, _| unset);
-    let mut a1 = vec![a0.clone(); if order == 1 { nq } else { 0 }];
-    for &(n, i, j, v) in &m0 {
-        if i == 0 || j == 0 || i > nrow || j > ncol {
-            return Err(err(n, format!("m0({i}, {j}) is outside {nrow} x {ncol}")));
-        }
-        if !a0[(i - 1, j - 1)].is_nan() {
-            let first = m0.iter().find(|e| (e.1, e.2) == (i, j)).map_or(0, |e| e.0);
-            return Err(err(
-                n,
-                format!("m0({i}, {j}) is given twice (first at line {first})"),
-            ));
-        }
-        a0[(i - 1, j - 1)] = v;
-    }
-    for &(n, i, j, k, v) in &m1 {
-        if i == 0 || j == 0 || k == 0 || i > nrow || j > ncol || k > nq {
-            return Err(err(
-                n,
-                format!("m1({i}, {j}, {k}) is outside {nrow} x {ncol} x {nq}"),
-            ));
-        }
-        if !a1[k - 1][(i - 1, j - 1)].is_nan() {
-            let first = m1
-                .iter()
-                .find(|e| (e.1, e.2, e.3) == (i, j, k))
-                .map_or(0, |e| e.0);
-            return Err(err(
-                n,
-                format!("m1({i}, {j}, {k}) is given twice (first at line {first})"),
-            ));
-        }
-        a1[k - 1][(i - 1, j - 1)] = v;
-    }
-    Ok(Taylor {
-        order,
-        nrow,
-        ncol,
-        nq,
-        nqn,
-        structure,
-        m0: a0,
-        m1: a1,
-    })
-}
-
-/// The inertia tensor `J` and the modal mass, stiffness and damping
-/// `Me`, `Ke`, `De` are symmetric (each order); `J`, `Me` and `De` are
-/// positive semi-definite (their constant part), and `Ke` with `Me` has
-/// no negative eigenvalue (checked by the caller): a file where they are
-/// not describes no body.
-fn check_symmetric_semi_definite(t: &Taylor, name: &str, line: usize) -> Result<(), ParseError> {
-    use flexbody_linalg::dense_check::{semi_definite, symmetric};
-    let err = |message: String| ParseError {
-        line,
-        block: name.to_string(),
-        message,
-    };
-    symmetric(t.m0.as_ref()).map_err(|e| err(format!("m0 {e}")))?;
-    for (k, m1) in t.m1.iter().enumerate() {
-        symmetric(m1.as_ref()).map_err(|e| err(format!("m1(:, :, {}) {e}", k + 1)))?;
-    }
-    if name == "Ke" {
-        return Ok(());
-    }
-    semi_definite(t.m0.as_ref()).map_err(|e| err(format!("m0 {e}")))
-}
-
-/// Parses SID text (see the module docs).
-pub fn parse_sid(text: &str) -> Result<Sid, ParseError> {
-    let mut lines = Lines::new(text);
-    let part = lines.expect("part", "part", 1)?;
-    let modal = lines.expect("new modal", "part", part)?;
-    let refmod_line = lines.expect("refmod", "modal", modal)?;
-    let mut mass = None;
-    let mut nelastq = None;
-    let mut names: Vec<(usize, usize, String)> = Vec::new();
-    let bad = |line, message: String| ParseError {
-        line,
-        block: "refmod".into(),
-        message,
-    };
-    let refmod_end = loop {
-        let (n, l) = lines.next("refmod", refmod_line)?;
-        if l.eq_ignore_ascii_case("end refmod") {
-            break n;
-        }
-        let (k, v) = key_value(l).ok_or_else(|| {
-            bad(
-                n,
-                format!("expected 'key = value', found '{l}'", l = excerpt(l)),
-            )
-        })?;
-        if k.eq_ignore_ascii_case("mass") {
-            let m = finite_number(v).map_err(|m| bad(n, format!("mass: {m}")))?;
-            if m <= 0.0 || mass.is_some() {
-                let why = if m <= 0.0 {
-                    "is not positive"
-                } else {
-                    "is given twice"
-                };
-                return Err(bad(n, format!("mass {v} {why}", v = excerpt(v))));
-            }
-            mass = Some(m);
-        } else if k.eq_ignore_ascii_case("nelastq") {
-            if nelastq.is_some() {
-                return Err(bad(n, "nelastq is given twice".into()));
-            }
-            nelastq =
-                Some(v.parse::<usize>().map_err(|_| {
-                    bad(n, format!("nelastq '{v}' is not a count", v = excerpt(v)))
-                })?);
-        } else if let Some(("ielastq", idx)) = indexed(k) {
-            let [i] = idx.as_slice() else {
-                return Err(bad(n, format!("'{k}' needs one index", k = excerpt(k))));
-            };
-            names.push((n, *i, v.trim_matches('\'').trim().to_string()));
-        } else {
-            return Err(bad(n, format!("unknown entry '{k}'", k = excerpt(k))));
-        }
-    };
-    let mass = mass.ok_or_else(|| bad(refmod_end, "'mass' is missing".into()))?;
-    let nq = nelastq.ok_or_else(|| bad(refmod_end, "'nelastq' is missing".into()))?;
-    if names.len() != nq {
-        return Err(bad(
-            refmod_end,
-            format!("{} ielastq names, nelastq = {nq}", names.len()),
-        ));
-    }
-    let mut ielastq = vec![None; nq];
-    for (n, i, name) in names {
-        if i == 0 || i > nq {
-            return Err(bad(n, format!("ielastq({i}) is outside 1..{nq}")));
-        }
-        if ielastq[i - 1].replace(name).is_some() {
-            return Err(bad(n, format!("ielastq({i}) is given twice")));
-        }
-    }
-    let ielastq = ielastq.into_iter().map(Option::unwrap_or_default).collect();
-    let frame = lines.expect("new frame", "modal", modal)?;
-    let mut nodes = Vec::new();
-    let mut node_lines: Vec<(u64, usize)> = Vec::new();
-    loop {
-        let (n, l) = lines.next("frame", frame)?;
-        if l.eq_ignore_ascii_case("end frame") {
-            break;
-        }
-        if !l.eq_ignore_ascii_case("new node") {
-            return Err(ParseError {
-                line: n,
-                block: "frame".into(),
-                message: format!(
-                    "expected 'new node' or 'end frame', found '{l}'",
-                    l = excerpt(l)
-                ),
-            });
-        }
-        let (rn, rl) = lines.next("node", n)?;
-        let id = key_value(rl)
-            .filter(|(k, _)| k.eq_ignore_ascii_case("rframe"))
-            .and_then(|(_, v)| v.trim_matches('\'').trim().parse::<u64>().ok())
-            .ok_or_else(|| ParseError {
-                line: rn,
-                block: "node".into(),
-                message: format!(
-                    "expected \"rframe = '<node id>'\", found '{rl}'",
-                    rl = excerpt(rl)
-                ),
-            })?;
-        let mut parts = Vec::new();
-        for name in ["origin", "phi", "psi", "AP"] {
-            let opened = lines.expect(name, "node", n)?;
-            let shape = match name {
-                "origin" => (3, 1),
-                "AP" => (3, 3),
-                _ => (3, nq),
-            };
-            parts.push(parse_taylor(&mut lines, name, opened, nq, shape)?);
-        }
-        lines.expect("end node", "node", n)?;
-        node_lines.push((id, rn));
-        let mut parts = parts.into_iter();
-        let mut take = || parts.next().expect("four parts");
-        nodes.push(SidNode {
-            id,
-            origin: take(),
-            phi: take(),
-            psi: take(),
-            ap: take(),
-        });
-    }
-    // Each node once; a repeat is named at its second line.
-    node_lines.sort_unstable();
-    if let Some(w) = node_lines.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(ParseError {
-            line: w[1].1,
-            block: "node".into(),
-            message: format!("node {} is given twice (first at line {})", w[0].0, w[0].1),
-        });
-    }
-    let expected: [(&str, usize, usize); 11] = [
-        ("mdCM", 3, 1),
-        ("J", 3, 3),
-        ("Ct", nq, 3),
-        ("Cr", nq, 3),
-        ("Me", nq, nq),
-        ("Gr", 3, 3 * nq),
-        ("Ge", nq, 3 * nq),
-        ("Oe", nq, 6),
-        ("ksigma", usize::MAX, nq),
-        ("Ke", nq, nq),
-        ("De", nq, nq),
-    ];
-    let mut q: Vec<Taylor> = Vec::with_capacity(11);
-    for (name, rows, cols) in expected {
-        let opened = lines.expect(name, "modal", modal)?;
-        let t = parse_taylor(&mut lines, name, opened, nq, (rows, cols))?;
-        if ["J", "Me", "Ke", "De"].contains(&name) {
-            check_symmetric_semi_definite(&t, name, opened)?;
-        }
-        if name == "Ke" {
-            // q[4] is Me: the elastic modes are stable.
-            flexbody_linalg::dense_check::stable_pencil(t.m0.as_ref(), q[4].m0.as_ref()).map_err(
-                |e| ParseError {
-                    line: opened,
-                    block: name.into(),
-                    message: format!("m0 {e}"),
-                },
-            )?;
-        }
-        q.push(t);
-    }
-    lines.expect("end modal", "modal", modal)?;
-    lines.expect("end part", "part", part)?;
-    let mut q = q.into_iter();
-    let mut take = || q.next().expect("eleven quantities");
-    Ok(Sid {
-        refmod: Refmod { mass, ielastq },
-        nodes,
-        md_cm: take(),
-        j: take(),
-        ct: take(),
-        cr: take(),
-        me: take(),
-        gr: take(),
-        ge: take(),
-        oe: take(),
-        ksigma: take(),
-        ke: take(),
-        de: take(),
-    })
 }
