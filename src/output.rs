@@ -8,6 +8,7 @@
 //! nodal stresses), and the Matrix Market index's accuracy figures (from
 //! the comparison with the full model).
 
+use crate::export::mbdyn::FemNode;
 use crate::export::mtx::Metadata;
 use crate::export::vtk::{check_mesh, ModeFields};
 use crate::export::{BodyOutput, ExportError, Format, ModalFem, Sid};
@@ -93,7 +94,8 @@ pub fn sid(
 /// The MBDyn modal FEM file of `body`, reduced from `sub`: the elastic
 /// modes of its floating frame (mean axes, so that MBDyn's modal node
 /// carries the rigid-body motion), the rigid inertia from its invariants
-/// and, with the mesh `model`, every node of the mesh and its HRZ lumped
+/// and, with the mesh `model`, every node of the mesh (a node a coupling
+/// or tie made dependent moving with its constraint) and its HRZ lumped
 /// masses (MBDyn builds the inertia coupling of rigid and elastic motion
 /// from the lumped masses of the nodes the file lists, so the file lists
 /// them all). Without a mesh, the interface nodes alone and no lumped
@@ -119,9 +121,19 @@ pub fn mbdyn(
         .map(crate::fem::lumped::lumped_masses)
         .transpose()
         .map_err(OutputError::Lumped)?;
-    let nodes: Vec<(u64, [f64; 3])> = match (model, &masses) {
-        (Some(model), Some(masses)) => masses.keys().map(|&id| (id, model.coords(id))).collect(),
-        _ => frame.nodes.iter().map(|n| (n.id, n.position)).collect(),
+    let nodes: Vec<FemNode> = match (model, &masses) {
+        (Some(model), Some(masses)) => {
+            check_mesh(model, body)?;
+            masses
+                .keys()
+                .map(|&id| FemNode::of_model(model, id))
+                .collect()
+        }
+        _ => frame
+            .nodes
+            .iter()
+            .map(|n| FemNode::of_dofs(n.id, n.position, &body.dof_map))
+            .collect(),
     };
     let lumped = masses.map(|masses| {
         masses
@@ -132,7 +144,7 @@ pub fn mbdyn(
             })
             .collect()
     });
-    Ok(ModalFem::new(frame, &body.dof_map, nodes, lumped))
+    Ok(ModalFem::new(frame, nodes, lumped))
 }
 
 /// The VTU file's fields of `body` on its mesh `model`: the eigenmodes of

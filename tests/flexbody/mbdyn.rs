@@ -3,9 +3,12 @@
 //! not from the writer: the record groups against the SID of the same
 //! reduction, the lumped masses against the body's mass.
 
-use super::support::{fails_with, hex_beam_deck, reduce_args, run_ok};
-use flexbody::export::{read_sid, Sid};
-use std::path::Path;
+use super::support::{fails_with, hex_beam, hex_beam_deck, reduce_args, reduce_with, run_ok};
+use flexbody::export::{read_sid, write_mbdyn, Sid};
+use flexbody::input::{load, MatrixFiles};
+use flexbody::output;
+use flexbody::reduce::Method;
+use std::path::{Path, PathBuf};
 
 /// What MBDyn takes from a modal FEM file, by record group.
 #[derive(Debug, Default)]
@@ -236,8 +239,13 @@ fn a_solid_body_reads_back_as_its_sid() {
     let deck = hex_beam_deck();
     let (sid, fem) = reduce_both(&deck, "free-residual", "4", &["--interface", "13"]);
     check_against_sid(&sid, &fem);
-    assert_eq!(fem.nodes, fem.coordinates.len());
-    assert!(fem.nodes > 13, "every node of the mesh: {}", fem.nodes);
+    // Every node of the mesh, ascending, at its coordinates.
+    let (_, model) = hex_beam();
+    let ids: Vec<u64> = model.nodes().iter().map(|n| n.id).collect();
+    assert_eq!(fem.labels, ids);
+    for (p, n) in model.nodes().iter().enumerate() {
+        assert_eq!(fem.coordinates[p], n.coords);
+    }
     assert!(fem.shapes.iter().flatten().all(|s| s[3..] == [0.0; 3]));
     let lumped = fem.lumped.unwrap();
     assert!(lumped.iter().all(|l| l[3..] == [0.0; 3]));
@@ -339,4 +347,44 @@ fn matrices_without_coordinates_are_refused() {
     );
     fails_with(&args, &["--format mbdyn needs node coordinates", "K.mtx"]);
     assert!(!out.exists());
+}
+
+/// Two blocks joined by a tie, clamped at one end: the tied nodes' DOFs
+/// are eliminated, and in the file they move with the tie's constraint,
+/// so every node that is not clamped moves in some mode.
+#[test]
+fn tied_nodes_move_with_their_constraint() {
+    let deck = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/calculix/tie_blocks/tie_blocks.inp");
+    let model = load(&deck, &MatrixFiles::default()).unwrap().model.unwrap();
+    assert!(model.has_constraints(), "the tie eliminates DOFs");
+    let (sid, fem) = reduce_both(&deck, "craig-bampton", "3", &["--interface", "7"]);
+    check_against_sid(&sid, &fem);
+    let clamped = [1, 15, 29, 71, 85, 99, 141, 155, 169];
+    for (p, label) in fem.labels.iter().enumerate() {
+        let moves = fem.shapes.iter().any(|m| m[p][..3] != [0.0; 3]);
+        assert_eq!(moves, !clamped.contains(label), "node {label}");
+    }
+}
+
+/// A substructure with coordinates but no mesh (the library's case; the
+/// CLI's matrices have no coordinates): the interface nodes alone, no
+/// group 11, and the file says why.
+#[test]
+fn without_a_mesh_the_file_has_the_interface_nodes_and_no_lumped_masses() {
+    let (sub, _) = hex_beam();
+    let body = reduce_with(&sub, Method::FreeResidual, 4, &[7, 13]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("body.fem");
+    write_mbdyn(&output::mbdyn(&sub, None, &body).unwrap(), &path).unwrap();
+    let fem = read_fem(&path);
+    assert_eq!(fem.labels, [7, 13]);
+    assert!(fem.lumped.is_none());
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("** no lumped masses (record group 11)"));
+    let sid = output::sid(&sub, None, &body).unwrap();
+    assert_eq!(fem.modes, sid.nq());
+    let (m, c, _) = fem.inertia.unwrap();
+    close("mass", m, sid.refmod.mass, m);
+    close("centre of mass", c[0], sid.center_of_mass()[0], 1.0);
 }

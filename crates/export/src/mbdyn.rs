@@ -34,7 +34,7 @@
 use crate::float_text::push_exp;
 use crate::{write_atomically, ExportError};
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, DofMap};
+use flexbody_fem::{Dof, DofKind, DofMap, Model, NodeId, ValueTerms};
 use flexbody_reduce::ffrf::{FloatingFrame, MassInvariants};
 use std::fmt::Write as _;
 use std::io::{self, Write};
@@ -51,12 +51,39 @@ const LABELS_PER_LINE: usize = 10;
 #[derive(Clone, Debug, PartialEq)]
 pub struct FemNode {
     /// Label: the FE model's node id.
-    pub label: u64,
+    pub label: NodeId,
     /// Position in the FE model's frame (m).
     pub position: [f64; 3],
-    /// Rows of `ux, uy, uz, rx, ry, rz` in [`ModalFem::shapes`]; `None`
-    /// where the body has no such DOF (fixed, or absent): zero.
-    pub rows: [Option<usize>; 6],
+    /// How `ux, uy, uz, rx, ry, rz` follow from the rows of
+    /// [`ModalFem::shapes`]: a row, a constraint's combination of rows (a
+    /// DOF a coupling or tie eliminated), or zero (fixed, or absent).
+    pub rows: [ValueTerms; 6],
+}
+
+impl FemNode {
+    /// Node `label` at `position`, its DOFs the rows of `dofs` (the body's
+    /// DOF map); zero where `dofs` has no such DOF.
+    pub fn of_dofs(label: NodeId, position: [f64; 3], dofs: &DofMap) -> Self {
+        Self {
+            label,
+            position,
+            rows: DofKind::ALL.map(|kind| {
+                dofs.index_of(Dof::new(label, kind))
+                    .map_or(ValueTerms::Fixed, ValueTerms::Equation)
+            }),
+        }
+    }
+
+    /// Node `id` of the mesh `model` (whose equations are the body's
+    /// DOFs): every DOF as [`Model::value_terms`] gives it, so that a node
+    /// a coupling or tie made dependent moves with its constraint.
+    pub fn of_model(model: &Model, id: NodeId) -> Self {
+        Self {
+            label: id,
+            position: model.coords(id),
+            rows: DofKind::ALL.map(|kind| model.value_terms(Dof::new(id, kind))),
+        }
+    }
 }
 
 /// Group 12: the body's rigid inertia as MBDyn reads it.
@@ -116,28 +143,15 @@ pub struct ModalFem {
 }
 
 impl ModalFem {
-    /// The file of a body in its floating `frame` (shapes over the DOFs of
-    /// `dofs`), at `nodes` (label and position, in file order), with their
-    /// `lumped` masses (one per node) if known.
-    pub fn new(
-        frame: FloatingFrame,
-        dofs: &DofMap,
-        nodes: Vec<(u64, [f64; 3])>,
-        lumped: Option<Vec<[f64; 6]>>,
-    ) -> Self {
+    /// The file of a body in its floating `frame`, at `nodes` (in file
+    /// order, their rows over the body's DOFs), with their `lumped` masses
+    /// (one per node) if known.
+    pub fn new(frame: FloatingFrame, nodes: Vec<FemNode>, lumped: Option<Vec<[f64; 6]>>) -> Self {
         let FloatingFrame {
             elastic,
             invariants,
             ..
         } = frame;
-        let nodes = nodes
-            .into_iter()
-            .map(|(label, position)| FemNode {
-                label,
-                position,
-                rows: DofKind::ALL.map(|kind| dofs.index_of(Dof::new(label, kind))),
-            })
-            .collect();
         Self {
             nodes,
             shapes: elastic.shapes,
@@ -158,7 +172,13 @@ impl ModalFem {
     /// Mode `k`'s six values at `node`: `ux uy uz rx ry rz` (zero where
     /// the node has no DOF).
     pub fn shape_at(&self, node: &FemNode, k: usize) -> [f64; 6] {
-        node.rows.map(|r| r.map_or(0.0, |i| self.shapes[(i, k)]))
+        std::array::from_fn(|d| match &node.rows[d] {
+            ValueTerms::Equation(i) => self.shapes[(*i, k)],
+            ValueTerms::Combination(terms) => {
+                terms.iter().map(|(i, c)| c * self.shapes[(*i, k)]).sum()
+            }
+            ValueTerms::Fixed => 0.0,
+        })
     }
 
     /// Writes the file's text to `out`; the mode shapes of a few modes at
@@ -318,16 +338,24 @@ mod tests {
     use super::*;
 
     fn fem(lumped: bool) -> ModalFem {
+        use ValueTerms::{Combination, Equation, Fixed};
         let nodes = vec![
             FemNode {
                 label: 7,
                 position: [0.0, 0.5, -1.0],
-                rows: [Some(0), Some(1), Some(2), None, None, None],
+                rows: [Equation(0), Equation(1), Equation(2), Fixed, Fixed, Fixed],
             },
             FemNode {
                 label: 12,
                 position: [1.0, 0.0, 0.25],
-                rows: [Some(3), None, None, None, None, Some(4)],
+                rows: [
+                    Equation(3),
+                    Combination(vec![(0, 0.5), (1, 0.5)]),
+                    Fixed,
+                    Fixed,
+                    Fixed,
+                    Equation(4),
+                ],
             },
         ];
         ModalFem {
@@ -372,9 +400,10 @@ mod tests {
         let g8 = at("** RECORD GROUP 8, MODE SHAPES");
         assert!(lines[g8 + 1].starts_with("**    NORMAL MODE SHAPE # 1"));
         assert_eq!(lines[g8 + 2], "1e0 2e0 3e0 0e0 0e0 0e0");
-        assert_eq!(lines[g8 + 3], "4e0 0e0 0e0 0e0 0e0 5e0");
+        // Node 12's uy is the mean of rows 0 and 1 (a constraint's).
+        assert_eq!(lines[g8 + 3], "4e0 1.5e0 0e0 0e0 0e0 5e0");
         assert!(lines[g8 + 4].starts_with("**    NORMAL MODE SHAPE # 2"));
-        assert_eq!(lines[g8 + 6], "-2e0 0e0 0e0 0e0 0e0 -2.5e0");
+        assert_eq!(lines[g8 + 6], "-2e0 -7.5e-1 0e0 0e0 0e0 -2.5e0");
         assert_eq!(
             lines[at("** RECORD GROUP 2, FINITE ELEMENT NODE LIST") + 1],
             "7 12"
