@@ -119,7 +119,8 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
         /// Format: json (one file), sid (Standard Input Data for MBS codes),
-        /// mtx (a folder of Matrix Market files with index.json).
+        /// mtx (a folder of Matrix Market files with index.json), mbdyn
+        /// (MBDyn's modal .fem file; needs node coordinates).
         #[arg(long, default_value = "json", value_parser = parse_format)]
         format: export::Format,
         /// Also write the mesh with every mode shape and its stresses for
@@ -574,6 +575,13 @@ fn run_reduce(
         export::check_writable(path)?;
     }
     let mut c = load(model, matrices, Takes::REDUCE, deck)?;
+    if format == export::Format::Mbdyn && !c.sub.has_geometry() {
+        anyhow::bail!(
+            "{}: --format mbdyn needs node coordinates (MBDyn's record groups 5-7) and \
+             matrices alone have none: reduce the model file or deck the matrices came from",
+            model.display()
+        );
+    }
     if vtu.is_some() && c.model.is_none() {
         anyhow::bail!(
             "{}: --vtu needs a mesh; matrices alone have none",
@@ -613,10 +621,10 @@ fn run_reduce(
     spec.memory = budget;
     let compare = check.compares(c.sub.len());
     // K and M are needed after the reduction only by the comparison, and
-    // M by the SID's invariants; the solver drops what is not.
+    // M by the invariants of SID and MBDyn; the solver drops what is not.
     let keep = if compare {
         Keep::Both
-    } else if format == export::Format::Sid {
+    } else if matches!(format, export::Format::Sid | export::Format::Mbdyn) {
         Keep::Mass
     } else {
         Keep::Neither

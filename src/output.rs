@@ -2,13 +2,16 @@
 //! writer of [`export`](crate::export) sees it: the SID content (the
 //! floating-frame invariants of [`reduce::ffrf`](crate::reduce::ffrf) and
 //! the recovery rows of [`recover::recovery_matrix`] in the elastic
-//! coordinates), the VTU file's mode fields (the body's eigenmodes and their
+//! coordinates), the MBDyn content (the same elastic modes at the mesh's
+//! nodes, with their lumped masses from [`fem::lumped`](crate::fem::lumped)),
+//! the VTU file's mode fields (the body's eigenmodes and their
 //! nodal stresses), and the Matrix Market index's accuracy figures (from
 //! the comparison with the full model).
 
+use crate::export::mbdyn::FemNode;
 use crate::export::mtx::Metadata;
 use crate::export::vtk::{check_mesh, ModeFields};
-use crate::export::{BodyOutput, ExportError, Format, Sid};
+use crate::export::{BodyOutput, ExportError, Format, ModalFem, Sid};
 use crate::fem::{FemError, Model, Substructure};
 use crate::recover::{self, ModalStress};
 use crate::reduce::ffrf::{FfrfError, FloatingFrame};
@@ -22,6 +25,9 @@ pub enum OutputError {
     /// The body has no floating-frame description.
     #[error(transparent)]
     Ffrf(#[from] FfrfError),
+    /// The lumped masses of the MBDyn file failed.
+    #[error("lumped masses: {0}")]
+    Lumped(FemError),
     /// The SID's recovery rows failed.
     #[error("stress recovery: {0}")]
     Recovery(FemError),
@@ -38,8 +44,9 @@ pub enum OutputError {
 
 /// What [`export::write`](crate::export::write) formats for `body`,
 /// reduced from `sub` (and `model`, the mesh if known), in `format`: the
-/// SID content for [`Format::Sid`] ([`sid`]), the node coordinates of `sub`
-/// and `metadata` for the Matrix Market index.
+/// SID content for [`Format::Sid`] ([`sid`]), the MBDyn content for
+/// [`Format::Mbdyn`] ([`mbdyn`]), the node coordinates of `sub` and
+/// `metadata` for the Matrix Market index.
 pub fn body_output<'a>(
     sub: &'a Substructure,
     model: Option<&Model>,
@@ -49,12 +56,17 @@ pub fn body_output<'a>(
 ) -> Result<BodyOutput<'a>, OutputError> {
     let sid = match format {
         Format::Sid => Some(sid(sub, model, body)?),
-        Format::Json | Format::Mtx => None,
+        Format::Json | Format::Mtx | Format::Mbdyn => None,
+    };
+    let mbdyn = match format {
+        Format::Mbdyn => Some(mbdyn(sub, model, body)?),
+        Format::Json | Format::Mtx | Format::Sid => None,
     };
     Ok(BodyOutput {
         body,
         sub: Some(sub),
         sid,
+        mbdyn,
         metadata,
     })
 }
@@ -77,6 +89,62 @@ pub fn sid(
         None => Mat::zeros(0, frame.nq()),
     };
     Ok(Sid::new(frame, ksigma))
+}
+
+/// The MBDyn modal FEM file of `body`, reduced from `sub`: the elastic
+/// modes of its floating frame (mean axes, so that MBDyn's modal node
+/// carries the rigid-body motion), the rigid inertia from its invariants
+/// and, with the mesh `model`, every node of the mesh (a node a coupling
+/// or tie made dependent moving with its constraint) and its HRZ lumped
+/// masses (MBDyn builds the inertia coupling of rigid and elastic motion
+/// from the lumped masses of the nodes the file lists, so the file lists
+/// them all). Without a mesh, the interface nodes alone and no lumped
+/// masses. MBDyn takes one translational mass per node: each node's
+/// largest of `mx, my, mz` is written in all three (they are equal for
+/// solids and 3D beams; a planar beam has `uz` only). An error without
+/// node coordinates.
+pub fn mbdyn(
+    sub: &Substructure,
+    model: Option<&Model>,
+    body: &ReducedBody,
+) -> Result<ModalFem, OutputError> {
+    if !sub.has_geometry() {
+        return Err(ExportError::Model(
+            "MBDyn's modal FEM file needs the nodes' coordinates (record groups 5-7), and \
+             matrices alone have none: reduce the model file or deck the matrices came from"
+                .into(),
+        )
+        .into());
+    }
+    let frame = FloatingFrame::new(sub, model, body)?;
+    let masses = model
+        .map(crate::fem::lumped::lumped_masses)
+        .transpose()
+        .map_err(OutputError::Lumped)?;
+    let nodes: Vec<FemNode> = match (model, &masses) {
+        (Some(model), Some(masses)) => {
+            check_mesh(model, body)?;
+            masses
+                .keys()
+                .map(|&id| FemNode::of_model(model, id))
+                .collect()
+        }
+        _ => frame
+            .nodes
+            .iter()
+            .map(|n| FemNode::of_dofs(n.id, n.position, &body.dof_map))
+            .collect(),
+    };
+    let lumped = masses.map(|masses| {
+        masses
+            .into_values()
+            .map(|[mx, my, mz, jx, jy, jz]| {
+                let m = mx.max(my).max(mz);
+                [m, m, m, jx, jy, jz]
+            })
+            .collect()
+    });
+    Ok(ModalFem::new(frame, nodes, lumped))
 }
 
 /// The VTU file's fields of `body` on its mesh `model`: the eigenmodes of

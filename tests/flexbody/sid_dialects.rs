@@ -332,7 +332,7 @@ fn convert_refuses_what_a_format_cannot_hold() {
     fails_with(
         &args(&json, "sid", &sid),
         &[
-            "a reduced body cannot be converted to a SID",
+            "a reduced body cannot be converted to the sid format",
             "--format sid",
         ],
     );

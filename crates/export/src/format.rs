@@ -2,6 +2,7 @@
 //! what the path holds, [`summary`] for `flexbody inspect` and [`convert`]
 //! for `flexbody convert`.
 
+use crate::mbdyn::{write_mbdyn, ModalFem};
 use crate::sid::{self, write_sid, Sid};
 use crate::{mtx, write_json, ExportError};
 use faer::linalg::solvers::Solve;
@@ -21,18 +22,21 @@ pub enum Format {
     Sid,
     /// A folder of Matrix Market files and `index.json`, for large bodies.
     Mtx,
+    /// MBDyn's modal FEM file (`.fem`), for its `modal` joint.
+    Mbdyn,
 }
 
 impl Format {
     /// All formats, by name.
-    pub const ALL: [Format; 3] = [Format::Json, Format::Sid, Format::Mtx];
+    pub const ALL: [Format; 4] = [Format::Json, Format::Sid, Format::Mtx, Format::Mbdyn];
 
-    /// The CLI name: `json`, `sid`, `mtx`.
+    /// The CLI name: `json`, `sid`, `mtx`, `mbdyn`.
     pub fn name(self) -> &'static str {
         match self {
             Format::Json => "json",
             Format::Sid => "sid",
             Format::Mtx => "mtx",
+            Format::Mbdyn => "mbdyn",
         }
     }
 
@@ -47,7 +51,7 @@ impl Format {
 impl std::str::FromStr for Format {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Format::parse(s).ok_or_else(|| format!("unknown format '{s}' (json, sid or mtx)"))
+        Format::parse(s).ok_or_else(|| format!("unknown format '{s}' (json, sid, mtx or mbdyn)"))
     }
 }
 
@@ -69,26 +73,31 @@ pub struct BodyOutput<'a> {
     /// The SID content (floating-frame invariants and recovery rows), which
     /// [`Format::Sid`] needs.
     pub sid: Option<Sid>,
+    /// The MBDyn content (elastic modes, nodes, lumped masses), which
+    /// [`Format::Mbdyn`] needs.
+    pub mbdyn: Option<ModalFem>,
     /// The accuracy figures of the Matrix Market index.
     pub metadata: mtx::Metadata,
 }
 
 impl<'a> BodyOutput<'a> {
-    /// The body alone: no SID content, node coordinates or accuracy figures.
+    /// The body alone: no SID or MBDyn content, node coordinates or
+    /// accuracy figures.
     pub fn new(body: &'a ReducedBody) -> Self {
         Self {
             body,
             sub: None,
             sid: None,
+            mbdyn: None,
             metadata: mtx::Metadata::default(),
         }
     }
 }
 
-/// Writes `output` to `path` in `format`: a file for JSON and SID, a folder
-/// for MTX. JSON formats the body; SID the SID content (an error without
-/// it); MTX the body with the node coordinates and accuracy figures in its
-/// index.
+/// Writes `output` to `path` in `format`: a file for JSON, SID and MBDyn, a
+/// folder for MTX. JSON formats the body; SID the SID content and MBDyn the
+/// MBDyn content (an error without it); MTX the body with the node
+/// coordinates and accuracy figures in its index.
 pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(), ExportError> {
     match format {
         Format::Json => write_json(output.body, path),
@@ -97,6 +106,10 @@ pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(),
             None => Err(ExportError::Missing("the SID content")),
         },
         Format::Mtx => mtx::write_mtx(output.body, output.sub, &output.metadata, path),
+        Format::Mbdyn => match &output.mbdyn {
+            Some(fem) => write_mbdyn(fem, path),
+            None => Err(ExportError::Missing("the MBDyn content")),
+        },
     }
 }
 
@@ -209,7 +222,8 @@ pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
 /// without node coordinates or accuracy figures, which a body does not
 /// hold). Refused, saying why and what to do instead: a SID to JSON or
 /// Matrix Market (a SID has no full basis), and a JSON or Matrix Market
-/// body to SID (the invariants need the model).
+/// body to SID or MBDyn (the invariants and lumped masses need the
+/// model).
 pub fn convert(input: &Path, format: Format, out: &Path) -> Result<AnyBody, ExportError> {
     let body = read_any(input)?;
     match (&body, format) {
@@ -220,9 +234,9 @@ pub fn convert(input: &Path, format: Format, out: &Path) -> Result<AnyBody, Expo
                 input.display()
             )))
         }
-        (AnyBody::Reduced(_), Format::Sid) => {
+        (AnyBody::Reduced(_), Format::Sid | Format::Mbdyn) => {
             return Err(ExportError::Model(format!(
-                "{}: a reduced body cannot be converted to a SID: the SID's invariants (mass, inertia, Ct, Cr, Gr, ...) need the model's mass matrix and node coordinates, which the body does not hold; write the SID from the model with `flexbody reduce MODEL ... --format sid`",
+                "{}: a reduced body cannot be converted to the {format} format: its invariants (mass, inertia, Ct, Cr, Gr, ...) and lumped masses need the model's mass matrix and node coordinates, which the body does not hold; write it from the model with `flexbody reduce MODEL ... --format {format}`",
                 input.display()
             )))
         }

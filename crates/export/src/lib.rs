@@ -9,6 +9,8 @@
 //!   `flexbody_reduce::ffrf` and the recovery rows;
 //! - a folder of Matrix Market files with a JSON index, [`mtx`], for large
 //!   bodies;
+//! - MBDyn's modal FEM file for its `modal` joint, [`mbdyn`], from the same
+//!   floating frame, the mesh's nodes and their lumped masses;
 //! - columns of numbers (time histories, transfer functions) as CSV,
 //!   [`columns`], refusing any value that is not finite;
 //! - a VTK unstructured grid with the mode shapes and modal stresses for
@@ -16,7 +18,8 @@
 //!   zlib-compressed binary or ASCII XML ([`vtu`]).
 //!
 //! The writers only format values they are given: what a format adds to the
-//! body (SID content, accuracy figures) comes in a [`BodyOutput`].
+//! body (SID content, MBDyn content, accuracy figures) comes in a
+//! [`BodyOutput`].
 //! [`write()`] and [`read_any`] pick the format; [`summary`] describes a body
 //! in a few lines. Readers check every count and name the block and line of
 //! what is wrong. Writers go through [`write_atomically`]: a temporary file
@@ -29,6 +32,7 @@ pub mod columns;
 mod float_text;
 pub mod format;
 mod json_layout;
+pub mod mbdyn;
 pub mod mtx;
 pub mod sid;
 pub mod vtk;
@@ -36,6 +40,7 @@ pub mod vtu;
 mod zlib_blocks;
 
 pub use format::{convert, read_any, summary, write, AnyBody, BodyOutput, Format};
+pub use mbdyn::{write_mbdyn, ModalFem};
 pub use sid::{read_sid, write_sid, Dialect, Sid};
 
 use faer::Mat;

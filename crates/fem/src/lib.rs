@@ -11,6 +11,7 @@ pub mod coupling;
 pub mod dof;
 pub mod element;
 pub mod id_hash;
+pub mod lumped;
 pub mod mesh;
 pub mod model;
 pub mod section;
