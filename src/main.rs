@@ -578,7 +578,8 @@ fn run_reduce(
     if format == export::Format::Mbdyn && !c.sub.has_geometry() {
         anyhow::bail!(
             "{}: --format mbdyn needs node coordinates (MBDyn's record groups 5-7) and \
-             matrices alone have none: reduce the model file or deck the matrices came from",
+             matrices alone have none: give them with `--coords NODES.txt`, or reduce the \
+             model file or deck the matrices came from",
             model.display()
         );
     }

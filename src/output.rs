@@ -111,7 +111,8 @@ pub fn mbdyn(
     if !sub.has_geometry() {
         return Err(ExportError::Model(
             "MBDyn's modal FEM file needs the nodes' coordinates (record groups 5-7), and \
-             matrices alone have none: reduce the model file or deck the matrices came from"
+             matrices alone have none: give them with `--coords NODES.txt`, or reduce the \
+             model file or deck the matrices came from"
                 .into(),
         )
         .into());

@@ -80,7 +80,10 @@ pub enum FfrfError {
     )]
     BodyNotOfModel { body: usize, model: usize },
     /// The model has no node coordinates (matrices alone).
-    #[error("the model has no node coordinates; the FFRF invariants need them")]
+    #[error(
+        "the model has no node coordinates; the FFRF invariants need them (for matrix input: \
+         `--coords NODES.txt`)"
+    )]
     NoCoordinates,
     /// `M_red` has no Cholesky factor.
     #[error("the reduced mass matrix is not positive definite")]
