@@ -417,7 +417,7 @@ fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {
             let read = export::convert(&input, format, &out)?;
             let from = match &read {
                 export::AnyBody::Sid(_, dialect) => format!("SID, {dialect}"),
-                export::AnyBody::Reduced(_) => "reduced body".into(),
+                export::AnyBody::Reduced(..) => "reduced body".into(),
             };
             say!("wrote {} ({format}, from a {from})", out.display());
             Ok(())

@@ -4,6 +4,8 @@
 //! the recovery rows of [`recover::recovery_matrix`] in the elastic
 //! coordinates), the MBDyn content (the same elastic modes at the mesh's
 //! nodes, with their lumped masses from [`fem::lumped`](crate::fem::lumped)),
+//! the nodes that the JSON document and the Matrix Market index list (with
+//! coordinates and the same lumped masses),
 //! the VTU file's mode fields (the body's eigenmodes and their
 //! nodal stresses), and the Matrix Market index's accuracy figures (from
 //! the comparison with the full model).
@@ -11,7 +13,7 @@
 use crate::export::mbdyn::FemNode;
 use crate::export::mtx::Metadata;
 use crate::export::vtk::{check_mesh, ModeFields};
-use crate::export::{BodyOutput, ExportError, Format, ModalFem, Sid};
+use crate::export::{BodyNode, BodyOutput, ExportError, Format, ModalFem, Sid};
 use crate::fem::{FemError, Model, Substructure};
 use crate::recover::{self, ModalStress};
 use crate::reduce::ffrf::{FfrfError, FloatingFrame};
@@ -25,7 +27,7 @@ pub enum OutputError {
     /// The body has no floating-frame description.
     #[error(transparent)]
     Ffrf(#[from] FfrfError),
-    /// The lumped masses of the MBDyn file failed.
+    /// The lumped masses of the MBDyn, JSON or Matrix Market file failed.
     #[error("lumped masses: {0}")]
     Lumped(FemError),
     /// The SID's recovery rows failed.
@@ -45,10 +47,10 @@ pub enum OutputError {
 /// What [`export::write`](crate::export::write) formats for `body`,
 /// reduced from `sub` (and `model`, the mesh if known), in `format`: the
 /// SID content for [`Format::Sid`] ([`sid`]), the MBDyn content for
-/// [`Format::Mbdyn`] ([`mbdyn`]), the node coordinates of `sub` and
-/// `metadata` for the Matrix Market index.
+/// [`Format::Mbdyn`] ([`mbdyn`]), the nodes for JSON and the Matrix
+/// Market index ([`body_nodes`]) and `metadata` for the index.
 pub fn body_output<'a>(
-    sub: &'a Substructure,
+    sub: &Substructure,
     model: Option<&Model>,
     body: &'a ReducedBody,
     format: Format,
@@ -62,13 +64,52 @@ pub fn body_output<'a>(
         Format::Mbdyn => Some(mbdyn(sub, model, body)?),
         Format::Json | Format::Mtx | Format::Sid => None,
     };
+    let nodes = match format {
+        Format::Json | Format::Mtx => body_nodes(sub, model, body)?,
+        Format::Sid | Format::Mbdyn => Vec::new(),
+    };
     Ok(BodyOutput {
         body,
-        sub: Some(sub),
+        nodes,
         sid,
         mbdyn,
         metadata,
     })
+}
+
+/// The nodes a JSON body or a Matrix Market index lists for `body`,
+/// reduced from `sub`: with the mesh `model`, every node of the mesh (fixed
+/// ones too), its coordinates and its HRZ lumped masses, which sum to the
+/// mesh's mass in each direction; without it, the nodes of the body's DOFs
+/// with the coordinates `sub` has (`--coords`) and no masses.
+pub fn body_nodes(
+    sub: &Substructure,
+    model: Option<&Model>,
+    body: &ReducedBody,
+) -> Result<Vec<BodyNode>, OutputError> {
+    let Some(model) = model else {
+        let ids: std::collections::BTreeSet<_> =
+            body.dof_map.dofs().iter().map(|d| d.node).collect();
+        return Ok(ids
+            .into_iter()
+            .map(|id| BodyNode {
+                id,
+                coords: sub.node_coordinates(id),
+                mass: None,
+            })
+            .collect());
+    };
+    check_mesh(model, body)?;
+    let masses = crate::fem::lumped::lumped_masses(model).map_err(OutputError::Lumped)?;
+    Ok(model
+        .nodes()
+        .iter()
+        .map(|n| BodyNode {
+            id: n.id,
+            coords: Some(n.coords),
+            mass: masses.get(&n.id).copied(),
+        })
+        .collect())
 }
 
 /// The SID of `body`, reduced from `sub`: its floating frame (elastic

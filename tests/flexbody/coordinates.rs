@@ -77,6 +77,29 @@ fn matrices_with_coordinates_make_the_sid_of_their_mesh() {
         close("frequency", *x, *y, *x);
     }
     assert_eq!(b.nodes[0].origin.m0[(0, 0)], 0.6);
+
+    // A JSON body of the matrices lists their nodes with the coordinates
+    // given; matrices have no elements to lump, so no masses.
+    let json = dir.path().join("matrices.json");
+    let mut args = reduce_args(
+        hex_beam_matrices(),
+        "free-residual",
+        "4",
+        &json,
+        &["--interface", "13"],
+    );
+    args.extend(["--coords".into(), coords.to_str().unwrap().into()]);
+    run_ok(&args);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let nodes = doc["nodes"].as_array().unwrap();
+    assert_eq!(
+        nodes.len(),
+        std::fs::read_to_string(&coords).unwrap().lines().count()
+    );
+    let tip = nodes.iter().find(|n| n["id"] == 13).unwrap();
+    assert_eq!(tip["coords"][0], 0.6);
+    assert!(nodes.iter().all(|n| n.get("mass").is_none()), "{tip}");
 }
 
 #[test]

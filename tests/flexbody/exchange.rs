@@ -183,7 +183,7 @@ fn mtx_folder_round_trip_and_format_detection() {
     ] {
         assert!(folder.join(f).is_file(), "{f}");
     }
-    let AnyBody::Reduced(back) = read_any(&folder).unwrap() else {
+    let AnyBody::Reduced(back, nodes) = read_any(&folder).unwrap() else {
         panic!("not a reduced body")
     };
     assert_eq!(back.basis, body.basis);
@@ -192,6 +192,9 @@ fn mtx_folder_round_trip_and_format_detection() {
     assert_eq!(back.damping, body.damping);
     assert_eq!(back.modes, body.modes);
     assert_eq!(back.interface, body.interface);
+    // Every node of the mesh, with its coordinates and lumped masses.
+    assert_eq!(nodes.len(), file.model.nodes().len());
+    assert!(nodes.iter().all(|n| n.coords.is_some() && n.mass.is_some()));
     let index: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(folder.join("index.json")).unwrap()).unwrap();
     assert_eq!(index["method"], "free-residual");
@@ -199,7 +202,7 @@ fn mtx_folder_round_trip_and_format_detection() {
     // Through index.json as well.
     assert!(matches!(
         read_any(&folder.join("index.json")).unwrap(),
-        AnyBody::Reduced(_)
+        AnyBody::Reduced(..)
     ));
 
     // A truncated basis names the file and line.

@@ -149,7 +149,7 @@ pub(crate) fn side_beam_json(method: Method, modes: usize) -> (TempDir, PathBuf,
     let (_, _, body) = super::side_beam_body(method, modes);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("body.json");
-    flexbody::export::write_json(&body, &path).unwrap();
+    flexbody::export::write_json(&body, &[], &path).unwrap();
     (dir, path, body)
 }
 
@@ -206,4 +206,116 @@ pub(crate) fn reduce_with(
     nodes: &[u64],
 ) -> ReducedBody {
     reduce(sub, &Reduction::new(method, modes, all_dofs(sub, nodes))).unwrap()
+}
+
+/// A free skew 3D Timoshenko beam with rotary inertia: unequal bending
+/// stiffnesses, the local y axis from an orientation vector that is not
+/// normal to the axis, and the whole beam away from the origin.
+pub(crate) const SKEW_TIMOSHENKO: &str = r#"
+title = "free skew Timoshenko beam"
+[[material]]
+name = "steel"
+youngs_modulus = 2.1e11
+poisson_ratio = 0.3
+density = 7850.0
+[[section]]
+name = "s"
+shape = "general"
+area = 0.012
+iy = 4.0e-5
+iz = 1.5e-5
+torsion = 3.0e-5
+shear_area_y = 0.010
+shear_area_z = 0.009
+[[beam_line]]
+element = "beam"
+theory = "timoshenko"
+from = [0.3, -0.2, 0.4]
+to = [1.1, 0.5, -0.1]
+elements = 6
+first_node = 1
+material = "steel"
+section = "s"
+orientation = [0.2, 0.1, 1.0]
+"#;
+
+/// The welib comparison's clamped Euler-Bernoulli beam (no rotary
+/// inertia), from `tests/fixtures/sid/`.
+pub(crate) fn welib_clamped_beam() -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/sid/welib_clamped_beam.toml");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Writes what `scripts/beam_invariants.py` reads: the beam mesh of
+/// `model` (nodes, elements with their section and material), the SID's
+/// elastic mode shapes at every DOF of every node (zero where fixed), and
+/// flexbody's invariants of `body`.
+pub(crate) fn write_beam_case(
+    model: &Model,
+    sub: &Substructure,
+    body: &ReducedBody,
+    path: &std::path::Path,
+) {
+    use flexbody::fem::{BeamTheory, Dof, DofKind, Element};
+    use flexbody::reduce::ffrf::FloatingFrame;
+    use serde_json::json;
+    let frame = FloatingFrame::new(sub, Some(model), body).unwrap();
+    let phi = &frame.elastic.shapes;
+    let nq = phi.ncols();
+    let nodes: Vec<_> = model
+        .nodes()
+        .iter()
+        .map(|n| {
+            let modes: Vec<Vec<f64>> = DofKind::ALL
+                .iter()
+                .map(|&k| {
+                    let terms = model.value_terms(Dof::new(n.id, k));
+                    (0..nq)
+                        .map(|q| {
+                            let column: Vec<f64> = (0..phi.nrows()).map(|i| phi[(i, q)]).collect();
+                            terms.of(&column)
+                        })
+                        .collect()
+                })
+                .collect();
+            json!({"id": n.id, "x": n.coords, "phi": modes})
+        })
+        .collect();
+    let elements: Vec<_> = model
+        .elements()
+        .iter()
+        .map(|e| match e {
+            Element::Beam(b) => {
+                let p = &b.properties;
+                let s = &p.section;
+                json!({
+                    "nodes": b.nodes, "orientation": b.orientation,
+                    "E": p.material.youngs_modulus, "G": p.material.shear_modulus,
+                    "rho": p.material.density, "A": s.area, "Iy": s.iy, "Iz": s.iz,
+                    "Asy": s.shear_area_y, "Asz": s.shear_area_z,
+                    "timoshenko": p.theory == BeamTheory::Timoshenko,
+                    "rotary_inertia": p.rotary_inertia,
+                })
+            }
+            other => panic!("a beam model holds beams only, not {other:?}"),
+        })
+        .collect();
+    let inv = &frame.invariants;
+    let mat = |m: &faer::Mat<f64>| -> Vec<Vec<f64>> {
+        (0..m.nrows())
+            .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+            .collect()
+    };
+    let doc = json!({
+        "nodes": nodes, "elements": elements,
+        "invariants": {
+            "mass": inv.mass, "mdCM": inv.md_cm, "mdCM1": inv.md_cm1, "J": inv.j, "J1": inv.j1,
+            "Ct": mat(&inv.ct), "Cr": mat(&inv.cr),
+            "Cr1": inv.cr1.iter().map(mat).collect::<Vec<_>>(),
+            "Me": mat(&inv.me), "Gr": mat(&inv.gr), "Ge": mat(&inv.ge), "Oe": mat(&inv.oe),
+            "Oe1": inv.oe1.iter().map(mat).collect::<Vec<_>>(),
+        },
+    });
+    std::fs::write(path, serde_json::to_string(&doc).unwrap()).unwrap();
 }

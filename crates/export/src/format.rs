@@ -4,10 +4,10 @@
 
 use crate::mbdyn::{write_mbdyn, ModalFem};
 use crate::sid::{self, write_sid, Sid};
-use crate::{mtx, write_json, ExportError};
+use crate::{mtx, write_json, BodyNode, ExportError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
-use flexbody_fem::{DofKind, Substructure};
+use flexbody_fem::DofKind;
 use flexbody_reduce::ReducedBody;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -67,9 +67,10 @@ impl std::fmt::Display for Format {
 pub struct BodyOutput<'a> {
     /// The body: all of JSON and Matrix Market.
     pub body: &'a ReducedBody,
-    /// The model the body was reduced from: the node coordinates of the
-    /// Matrix Market index (none without it).
-    pub sub: Option<&'a Substructure>,
+    /// The nodes of the mesh the body was reduced from, with their
+    /// coordinates and lumped masses, for JSON and the Matrix Market index
+    /// (none without them).
+    pub nodes: Vec<BodyNode>,
     /// The SID content (floating-frame invariants and recovery rows), which
     /// [`Format::Sid`] needs.
     pub sid: Option<Sid>,
@@ -81,12 +82,11 @@ pub struct BodyOutput<'a> {
 }
 
 impl<'a> BodyOutput<'a> {
-    /// The body alone: no SID or MBDyn content, node coordinates or
-    /// accuracy figures.
+    /// The body alone: no SID or MBDyn content, nodes or accuracy figures.
     pub fn new(body: &'a ReducedBody) -> Self {
         Self {
             body,
-            sub: None,
+            nodes: Vec::new(),
             sid: None,
             mbdyn: None,
             metadata: mtx::Metadata::default(),
@@ -95,17 +95,17 @@ impl<'a> BodyOutput<'a> {
 }
 
 /// Writes `output` to `path` in `format`: a file for JSON, SID and MBDyn, a
-/// folder for MTX. JSON formats the body; SID the SID content and MBDyn the
-/// MBDyn content (an error without it); MTX the body with the node
-/// coordinates and accuracy figures in its index.
+/// folder for MTX. JSON formats the body and the nodes; SID the SID
+/// content and MBDyn the MBDyn content (an error without it); MTX the body
+/// with the nodes and accuracy figures in its index.
 pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(), ExportError> {
     match format {
-        Format::Json => write_json(output.body, path),
+        Format::Json => write_json(output.body, &output.nodes, path),
         Format::Sid => match &output.sid {
             Some(sid) => write_sid(sid, path),
             None => Err(ExportError::Missing("the SID content")),
         },
-        Format::Mtx => mtx::write_mtx(output.body, output.sub, &output.metadata, path),
+        Format::Mtx => mtx::write_mtx(output.body, &output.nodes, &output.metadata, path),
         Format::Mbdyn => match &output.mbdyn {
             Some(fem) => write_mbdyn(fem, path),
             None => Err(ExportError::Missing("the MBDyn content")),
@@ -116,8 +116,9 @@ pub fn write(output: &BodyOutput<'_>, format: Format, path: &Path) -> Result<(),
 /// A body read by [`read_any`].
 #[derive(Clone, Debug)]
 pub enum AnyBody {
-    /// From JSON or a Matrix Market folder: the full reduced body.
-    Reduced(Box<ReducedBody>),
+    /// From JSON or a Matrix Market folder: the full reduced body and the
+    /// nodes of its mesh (empty if the file lists none).
+    Reduced(Box<ReducedBody>, Vec<BodyNode>),
     /// From a SID file: the FFRF description (no full basis), and the
     /// dialect the file was written in.
     Sid(Box<Sid>, sid::Dialect),
@@ -127,7 +128,7 @@ impl AnyBody {
     /// The summary `flexbody inspect` prints.
     pub fn summary(&self) -> String {
         match self {
-            AnyBody::Reduced(b) => summary(b),
+            AnyBody::Reduced(b, nodes) => summary(b) + &nodes_summary(nodes),
             AnyBody::Sid(s, dialect) => sid_summary(s, *dialect),
         }
     }
@@ -140,11 +141,11 @@ impl AnyBody {
     /// `interface_dofs`, a SID `dialect` and `center_of_mass_m`.
     pub fn summary_json(&self) -> serde_json::Value {
         let (frequencies, error) = match self {
-            AnyBody::Reduced(b) => split(b.frequencies_hz()),
+            AnyBody::Reduced(b, _) => split(b.frequencies_hz()),
             AnyBody::Sid(s, _) => split(s.frequencies_hz()),
         };
         let mut doc = match self {
-            AnyBody::Reduced(body) => {
+            AnyBody::Reduced(body, mesh) => {
                 let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
                 serde_json::json!({
                     "format": "reduced-body",
@@ -154,6 +155,8 @@ impl AnyBody {
                     "mass_kg": body_mass(body),
                     "interface_nodes": nodes,
                     "interface_dofs": body.interface.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+                    "nodes": mesh.len(),
+                    "lumped_mass_kg": lumped_mass(mesh),
                 })
             }
             AnyBody::Sid(sid, dialect) => serde_json::json!({
@@ -190,6 +193,41 @@ fn body_mass(body: &ReducedBody) -> Option<f64> {
         .reduce(f64::max)
 }
 
+/// The sum of the lumped translational masses of `nodes` along x, y, z
+/// (kg), if every node has them.
+pub fn lumped_mass(nodes: &[BodyNode]) -> Option<[f64; 3]> {
+    if nodes.is_empty() {
+        return None;
+    }
+    nodes.iter().try_fold([0.0; 3], |mut sum, n| {
+        let m = n.mass?;
+        for (s, v) in sum.iter_mut().zip(m) {
+            *s += v;
+        }
+        Some(sum)
+    })
+}
+
+/// The summary's line on the mesh's nodes a body file lists: how many, with
+/// coordinates, and the sum of their lumped masses.
+fn nodes_summary(nodes: &[BodyNode]) -> String {
+    if nodes.is_empty() {
+        return String::new();
+    }
+    let located = nodes.iter().filter(|n| n.coords.is_some()).count();
+    let mass = match lumped_mass(nodes) {
+        Some([x, y, z]) => {
+            format!("; lumped masses sum to {x:.6e}, {y:.6e}, {z:.6e} kg along x, y, z")
+        }
+        None => "; no lumped masses".into(),
+    };
+    format!(
+        "mesh: {} node{}, {located} with coordinates{mass}\n",
+        nodes.len(),
+        if nodes.len() == 1 { "" } else { "s" }
+    )
+}
+
 /// Reads a reduced body from `path`, recognising the format: a folder (or
 /// its `index.json`) is a Matrix Market body, a file whose first significant
 /// line is `part` or a PY_SID counts line ([`sid::looks_like_sid`]), or
@@ -198,7 +236,7 @@ fn body_mass(body: &ReducedBody) -> Option<f64> {
 /// once, whole (as [`crate::read_json`] reads it).
 pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     if path.is_dir() {
-        return mtx::read_mtx(path).map(|b| AnyBody::Reduced(Box::new(b)));
+        return mtx::read_mtx_with_nodes(path).map(|(b, n)| AnyBody::Reduced(Box::new(b), n));
     }
     let text = crate::read_json_text(path)?;
     let sid_name = path.extension().is_some_and(|e| {
@@ -210,16 +248,16 @@ pub fn read_any(path: &Path) -> Result<AnyBody, ExportError> {
     }
     if text.contains(mtx::INDEX_FORMAT) {
         let dir = path.parent().unwrap_or(Path::new("."));
-        return mtx::read_mtx(dir).map(|b| AnyBody::Reduced(Box::new(b)));
+        return mtx::read_mtx_with_nodes(dir).map(|(b, n)| AnyBody::Reduced(Box::new(b), n));
     }
-    crate::json_from_text(path, &text).map(|b| AnyBody::Reduced(Box::new(b)))
+    crate::json_from_text(path, &text).map(|(b, n)| AnyBody::Reduced(Box::new(b), n))
 }
 
 /// Converts the reduced-body file (or Matrix Market folder) `input` to
 /// `format` at `out`, through the writers (atomic), and returns what was
 /// read. Supported: a SID of any dialect to flexbody's SID; a JSON body
-/// or a Matrix Market folder to JSON or Matrix Market (the index then
-/// without node coordinates or accuracy figures, which a body does not
+/// or a Matrix Market folder to JSON or Matrix Market, with the nodes it
+/// lists (the index then without accuracy figures, which a body does not
 /// hold). Refused, saying why and what to do instead: a SID to JSON or
 /// Matrix Market (a SID has no full basis), and a JSON or Matrix Market
 /// body to SID or MBDyn (the invariants and lumped masses need the
@@ -234,15 +272,15 @@ pub fn convert(input: &Path, format: Format, out: &Path) -> Result<AnyBody, Expo
                 input.display()
             )))
         }
-        (AnyBody::Reduced(_), Format::Sid | Format::Mbdyn) => {
+        (AnyBody::Reduced(..), Format::Sid | Format::Mbdyn) => {
             return Err(ExportError::Model(format!(
                 "{}: a reduced body cannot be converted to the {format} format: its invariants (mass, inertia, Ct, Cr, Gr, ...) and lumped masses need the model's mass matrix and node coordinates, which the body does not hold; write it from the model with `flexbody reduce MODEL ... --format {format}`",
                 input.display()
             )))
         }
-        (AnyBody::Reduced(b), Format::Json) => write_json(b, out)?,
-        (AnyBody::Reduced(b), Format::Mtx) => {
-            mtx::write_mtx(b, None, &mtx::Metadata::default(), out)?
+        (AnyBody::Reduced(b, nodes), Format::Json) => write_json(b, nodes, out)?,
+        (AnyBody::Reduced(b, nodes), Format::Mtx) => {
+            mtx::write_mtx(b, nodes, &mtx::Metadata::default(), out)?
         }
     }
     Ok(body)

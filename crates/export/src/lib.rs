@@ -44,7 +44,7 @@ pub use mbdyn::{write_mbdyn, ModalFem};
 pub use sid::{read_sid, write_sid, Dialect, Sid};
 
 use faer::Mat;
-use flexbody_fem::{Dof, DofMap};
+use flexbody_fem::{Dof, DofMap, NodeId};
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
@@ -261,6 +261,60 @@ impl Drop for FileSet {
     }
 }
 
+/// A node of the body's mesh in a body file (the JSON document's and the
+/// Matrix Market index's `nodes`): its id, its coordinates (m) where known,
+/// and, where the body was reduced from a mesh, its HRZ lumped masses
+/// `ux uy uz` (kg) and `rx ry rz` (kg m^2) ([`flexbody_fem::lumped`]). With
+/// a mesh every node is listed, fixed ones too, so that each direction's
+/// masses sum to the whole body's mass.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BodyNode {
+    pub id: NodeId,
+    /// Coordinates (m), if known.
+    pub coords: Option<[f64; 3]>,
+    /// Lumped masses, if the body was reduced from a mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<[f64; 6]>,
+}
+
+/// The first problem of `nodes` read from a body file: an id listed twice,
+/// a coordinate that is not finite or beyond
+/// [`LARGEST`](flexbody_linalg::dense_check::LARGEST), a lumped mass that
+/// is not finite, negative or beyond it.
+pub(crate) fn check_nodes(nodes: &[BodyNode]) -> Result<(), String> {
+    use flexbody_linalg::dense_check::LARGEST;
+    let mut ids: Vec<NodeId> = nodes.iter().map(|n| n.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(format!("node {} is listed twice", w[0]));
+    }
+    for n in nodes {
+        if let Some(x) = n
+            .coords
+            .iter()
+            .flatten()
+            .find(|x| !(-LARGEST..=LARGEST).contains(*x))
+        {
+            return Err(format!(
+                "node {}: coordinate {x:e} is not a finite number of at most {LARGEST:e}",
+                n.id
+            ));
+        }
+        if let Some(m) = n
+            .mass
+            .iter()
+            .flatten()
+            .find(|m| !(0.0..=LARGEST).contains(*m))
+        {
+            return Err(format!(
+                "node {}: lumped mass {m:e} is not a number in [0, {LARGEST:e}]",
+                n.id
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The JSON document of a reduced body. Matrices are row-major arrays of
 /// rows. Units: SI (basis rows in m or rad per unit q; mass in kg-consistent
 /// units of q; stiffness in N/m-consistent units of q).
@@ -278,6 +332,10 @@ pub struct BodyFile {
     pub mass: Vec<Vec<f64>>,
     pub stiffness: Vec<Vec<f64>>,
     pub damping: Option<Vec<Vec<f64>>>,
+    /// The nodes of the mesh with their coordinates and lumped masses
+    /// (none in files written without them).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nodes: Vec<BodyNode>,
     /// The Ritz basis T, one row per DOF of `dofs`.
     #[serde(serialize_with = "json_layout::rows_in_parallel")]
     pub basis: Vec<Vec<f64>>,
@@ -301,8 +359,9 @@ fn rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
 }
 
 impl BodyFile {
-    /// The document of `body`; fails on NaN or infinite entries.
-    pub fn new(body: &ReducedBody) -> Result<Self, ExportError> {
+    /// The document of `body` and its mesh's `nodes`; fails on NaN or
+    /// infinite entries.
+    pub fn new(body: &ReducedBody, nodes: &[BodyNode]) -> Result<Self, ExportError> {
         writable(body.basis.as_ref(), "the basis")?;
         writable(body.mass.as_ref(), "the mass matrix")?;
         writable(body.stiffness.as_ref(), "the stiffness matrix")?;
@@ -324,6 +383,7 @@ impl BodyFile {
             mass: rows(&body.mass),
             stiffness: rows(&body.stiffness),
             damping: body.damping.as_ref().map(rows),
+            nodes: nodes.to_vec(),
             basis: rows(&body.basis),
         })
     }
@@ -332,14 +392,16 @@ impl BodyFile {
     /// block (the JSON key) that is wrong.
     pub fn into_body(self, path: &Path) -> Result<ReducedBody, ExportError> {
         self.checked()
+            .map(|(body, _)| body)
             .map_err(|(block, message)| ExportError::Format {
                 path: path.to_path_buf(),
                 message: format!("block '{block}': {message}"),
             })
     }
 
-    /// The body, or the block and message of the first inconsistency.
-    fn checked(self) -> Result<ReducedBody, (&'static str, String)> {
+    /// The body and its nodes, or the block and message of the first
+    /// inconsistency.
+    fn checked(self) -> Result<(ReducedBody, Vec<BodyNode>), (&'static str, String)> {
         if self.format != FORMAT {
             return Err((
                 "format",
@@ -421,7 +483,8 @@ impl BodyFile {
             interface: self.interface,
         };
         body.check().map_err(|d| (d.block, d.message))?;
-        Ok(body)
+        check_nodes(&self.nodes).map_err(|message| ("nodes", message))?;
+        Ok((body, self.nodes))
     }
 }
 
@@ -445,9 +508,10 @@ pub(crate) fn json_block_at(text: &str, line: usize) -> String {
         })
 }
 
-/// Writes `body` as JSON to `path` (atomically).
-pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
-    let doc = BodyFile::new(body)?;
+/// Writes `body` and its mesh's `nodes` (none if unknown) as JSON to
+/// `path` (atomically).
+pub fn write_json(body: &ReducedBody, nodes: &[BodyNode], path: &Path) -> Result<(), ExportError> {
+    let doc = BodyFile::new(body, nodes)?;
     write_atomically(path, |out| {
         json_layout::to_writer(&mut *out, &doc).map_err(std::io::Error::other)?;
         out.write_all(b"\n")
@@ -456,11 +520,21 @@ pub fn write_json(body: &ReducedBody, path: &Path) -> Result<(), ExportError> {
 
 /// Reads a JSON reduced body written by [`write_json`].
 pub fn read_json(path: &Path) -> Result<ReducedBody, ExportError> {
+    read_json_with_nodes(path).map(|(body, _)| body)
+}
+
+/// Reads a JSON reduced body and its mesh's nodes (empty if the file has
+/// none).
+pub fn read_json_with_nodes(path: &Path) -> Result<(ReducedBody, Vec<BodyNode>), ExportError> {
     json_from_text(path, &read_json_text(path)?)
 }
 
-/// The JSON body in `text`, read from `path` (which errors name).
-pub(crate) fn json_from_text(path: &Path, text: &str) -> Result<ReducedBody, ExportError> {
+/// The JSON body and its nodes in `text`, read from `path` (which errors
+/// name).
+pub(crate) fn json_from_text(
+    path: &Path,
+    text: &str,
+) -> Result<(ReducedBody, Vec<BodyNode>), ExportError> {
     let doc: BodyFile = serde_json::from_str(text).map_err(|e| ExportError::Format {
         path: path.to_path_buf(),
         message: format!(
@@ -559,7 +633,7 @@ mod tests {
         let path = dir.path().join("body.json");
         std::fs::create_dir(&path).unwrap();
         std::fs::write(path.join("keep.txt"), "kept").unwrap();
-        let e = write_json(&small_body(), &path).unwrap_err();
+        let e = write_json(&small_body(), &[], &path).unwrap_err();
         match &e {
             ExportError::Write { path: p, .. } => assert_eq!(p, &path),
             other => panic!("expected a Write error, got {other}"),
@@ -581,7 +655,7 @@ mod tests {
         let folder = dir.path().join("body");
         std::fs::create_dir_all(folder.join("stiffness.mtx")).unwrap();
         std::fs::write(folder.join("stiffness.mtx/keep.txt"), "kept").unwrap();
-        let e = mtx::write_mtx(&small_body(), None, &Default::default(), &folder).unwrap_err();
+        let e = mtx::write_mtx(&small_body(), &[], &Default::default(), &folder).unwrap_err();
         match &e {
             ExportError::Write { path, .. } => assert_eq!(path, &folder.join("stiffness.mtx")),
             other => panic!("expected a Write error, got {other}"),
@@ -591,7 +665,7 @@ mod tests {
         assert!(left.iter().all(|n| !n.ends_with(".tmp")), "{left:?}");
         // Written without the obstacle, the folder is complete and reads back.
         std::fs::remove_dir_all(folder.join("stiffness.mtx")).unwrap();
-        mtx::write_mtx(&small_body(), None, &Default::default(), &folder).unwrap();
+        mtx::write_mtx(&small_body(), &[], &Default::default(), &folder).unwrap();
         assert_eq!(
             names(&folder),
             ["basis.mtx", "index.json", "mass.mtx", "stiffness.mtx"]
@@ -606,14 +680,14 @@ mod tests {
         let mut body = small_body();
         body.basis[(2, 1)] = f64::NAN;
         let json = dir.path().join("body.json");
-        let e = write_json(&body, &json).unwrap_err().to_string();
+        let e = write_json(&body, &[], &json).unwrap_err().to_string();
         assert_eq!(e, "refusing to write the basis: entry (3, 2) is NaN");
         assert!(!json.exists());
         // Beyond 1e100 no reader would take it back.
         let mut body = small_body();
         body.damping = Some(Mat::from_fn(2, 2, |i, j| if i == j { 1e200 } else { 0.0 }));
         let folder = dir.path().join("body");
-        let e = mtx::write_mtx(&body, None, &Default::default(), &folder)
+        let e = mtx::write_mtx(&body, &[], &Default::default(), &folder)
             .unwrap_err()
             .to_string();
         assert!(

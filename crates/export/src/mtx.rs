@@ -17,9 +17,9 @@
 //! folder's previous body whole, never a mix of two.
 
 use crate::float_text::push_exp;
-use crate::{ExportError, FileSet};
+use crate::{BodyNode, ExportError, FileSet};
 use faer::Mat;
-use flexbody_fem::{Dof, DofMap, NodeId, Substructure};
+use flexbody_fem::{Dof, DofMap, NodeId};
 use flexbody_io::text::{excerpt, finite_number};
 use flexbody_linalg::memory::Budget;
 use flexbody_reduce::{Method, ModeKind, ReducedBody};
@@ -41,14 +41,6 @@ pub struct Metadata {
     pub full_frequencies_hz: Option<Vec<f64>>,
 }
 
-/// A node of the full model in the index.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct IndexNode {
-    pub id: NodeId,
-    /// Coordinates (m), if known.
-    pub coords: Option<[f64; 3]>,
-}
-
 /// `index.json`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Index {
@@ -63,7 +55,9 @@ pub struct Index {
     pub frequencies_hz: Vec<f64>,
     pub dofs: Vec<Dof>,
     pub interface: Vec<Dof>,
-    pub nodes: Vec<IndexNode>,
+    /// The nodes of the mesh (coordinates, lumped masses), or those of
+    /// `dofs` without them.
+    pub nodes: Vec<BodyNode>,
     #[serde(default)]
     pub metadata: Metadata,
     /// File names in the folder.
@@ -94,11 +88,13 @@ fn matrix_text(m: &Mat<f64>, what: &str) -> String {
     s
 }
 
-/// Writes `body` to the folder `dir` (created if missing). `sub` adds node
-/// coordinates to the index; `metadata` adds accuracy figures.
+/// Writes `body` to the folder `dir` (created if missing). `nodes` (the
+/// mesh's, with coordinates and lumped masses) go to the index; without
+/// them the index lists the nodes of the body's DOFs alone. `metadata` adds
+/// accuracy figures.
 pub fn write_mtx(
     body: &ReducedBody,
-    sub: Option<&Substructure>,
+    nodes: &[BodyNode],
     metadata: &Metadata,
     dir: &Path,
 ) -> Result<(), ExportError> {
@@ -137,7 +133,18 @@ pub fn write_mtx(
         set.stage(&dir.join(&file), |out| out.write_all(text.as_bytes()))?;
         files.insert(name.to_string(), file);
     }
-    let node_ids: BTreeSet<NodeId> = body.dof_map.dofs().iter().map(|d| d.node).collect();
+    let nodes = if nodes.is_empty() {
+        let ids: BTreeSet<NodeId> = body.dof_map.dofs().iter().map(|d| d.node).collect();
+        ids.into_iter()
+            .map(|id| BodyNode {
+                id,
+                coords: None,
+                mass: None,
+            })
+            .collect()
+    } else {
+        nodes.to_vec()
+    };
     let index = Index {
         format: INDEX_FORMAT.into(),
         units: "SI: m, kg, s, N, rad; frequencies in Hz".into(),
@@ -148,13 +155,7 @@ pub fn write_mtx(
         frequencies_hz,
         dofs: body.dof_map.dofs().to_vec(),
         interface: body.interface.clone(),
-        nodes: node_ids
-            .into_iter()
-            .map(|id| IndexNode {
-                id,
-                coords: sub.and_then(|s| s.node_coordinates(id)),
-            })
-            .collect(),
+        nodes,
         metadata: metadata.clone(),
         files,
     };
@@ -380,6 +381,11 @@ fn parse_matrix(text: &str, shape: Option<(usize, usize)>) -> Result<Mat<f64>, (
 /// Reads a body written by [`write_mtx`] from its folder (or the path of its
 /// `index.json`).
 pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
+    read_mtx_with_nodes(dir).map(|(body, _)| body)
+}
+
+/// [`read_mtx`], with the index's nodes.
+pub fn read_mtx_with_nodes(dir: &Path) -> Result<(ReducedBody, Vec<BodyNode>), ExportError> {
     let (dir, index_path): (PathBuf, PathBuf) = if dir.is_dir() {
         (dir.to_path_buf(), dir.join("index.json"))
     } else {
@@ -464,7 +470,8 @@ pub fn read_mtx(dir: &Path) -> Result<ReducedBody, ExportError> {
             None => bad(format!("block '{}': {}", d.block, d.message)),
         }
     })?;
-    Ok(body)
+    crate::check_nodes(&index.nodes).map_err(|message| bad(format!("block 'nodes': {message}")))?;
+    Ok((body, index.nodes))
 }
 
 #[cfg(test)]
