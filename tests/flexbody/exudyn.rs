@@ -3,26 +3,31 @@
 
 use super::support::{
     hex_beam_deck, python_imports, reduce_args, reduce_with, run_ok, run_script, skip_without_peer,
+    welib_clamped_beam, write_beam_case, SKEW_TIMOSHENKO,
 };
 use flexbody::fem::{Dof, DofKind};
 use flexbody::reduce::{Method, ReducedBody};
 use std::path::PathBuf;
 
 /// Exudyn, a real MBS client, against flexbody: `scripts/exudyn_check.py`
-/// reads the SID file that `flexbody reduce --format sid` writes for the
-/// C3D8 bar `hex_beam`, builds an `ObjectFFRFreducedOrder` from its
-/// invariants alone, and compares it with the same body built by Exudyn's
-/// `FEMinterface` from the full M, K and mode shapes, and with flexbody's
+/// reads the SID file that `flexbody reduce --format sid` writes, builds an
+/// `ObjectFFRFreducedOrder` from its invariants alone, and compares it with
+/// the same body built apart from flexbody's invariants (for the C3D8 bar
+/// `hex_beam`, by Exudyn's `FEMinterface` from the full M, K and mode
+/// shapes; for a beam, from the mass integrals of
+/// `scripts/beam_invariants.py` over the beam's shape functions and the
+/// full K), and with flexbody's
 /// own frequencies and trapezoidal-rule time response of the tip to a
 /// harmonic force (frame held fixed: `Me q'' + Ke q = Phi_tip^T f(t)`); the
 /// two Exudyn bodies then move at large: a free tumble (whose energy and
 /// momentum must hold to the integrator's second order), and a pendulum
 /// swinging under gravity from the tip node on a spherical joint, or, for
-/// a clamped body, a hub turning under gravity. Three bodies
-/// ([`CASES`]): free-residual and Craig-Bampton of the free bar, and
-/// Craig-Bampton of the bar clamped at x = 0, whose full M holds the
-/// clamped nodes' mass (the SID must too). The tolerances and the
-/// figures measured are in the script.
+/// a clamped body, a hub turning under gravity. Six bodies ([`CASES`]):
+/// free-residual and Craig-Bampton of the free bar and of a free skew
+/// Timoshenko beam, and Craig-Bampton of the bar clamped at x = 0 and of a
+/// beam clamped at the origin, whose full M holds the clamped nodes' mass
+/// (the SID must too). The tolerances and the figures measured are in the
+/// script.
 ///
 /// Skipped, with a message, when `python3` cannot import exudyn, numpy and
 /// scipy, unless [`peers_required`](super::support::peers_required). With `FLEXBODY_EXUDYN_DIR` set, the
@@ -47,41 +52,106 @@ fn exudyn_agrees_with_flexbody() {
     }
 }
 
+/// What a case reduces.
+#[derive(Clone, Copy, PartialEq)]
+enum Mesh {
+    /// The C3D8 bar `hex_beam` (0.6 m along x), clamped at x = 0 if
+    /// `clamped`; its tip is node 13 (x = 0.6 m).
+    HexBar { clamped: bool },
+    /// A free skew Timoshenko beam with rotary inertia, 6 elements, nodes
+    /// 1 to 7 (`SKEW_TIMOSHENKO`).
+    SkewBeam,
+    /// An Euler-Bernoulli beam, 10 elements from the origin to x = 2 m,
+    /// clamped at node 1 (the origin), tip node 11.
+    ClampedBeam,
+}
+
+impl Mesh {
+    fn clamped(self) -> bool {
+        matches!(self, Mesh::HexBar { clamped: true } | Mesh::ClampedBeam)
+    }
+
+    fn is_beam(self) -> bool {
+        matches!(self, Mesh::SkewBeam | Mesh::ClampedBeam)
+    }
+
+    /// The model file of the mesh, written into `dir` where needed.
+    fn model(self, dir: &std::path::Path) -> PathBuf {
+        match self {
+            Mesh::HexBar { clamped } => case_deck(dir, clamped),
+            Mesh::SkewBeam | Mesh::ClampedBeam => {
+                let path = dir.join("beam.toml");
+                let text = match self {
+                    Mesh::SkewBeam => SKEW_TIMOSHENKO.to_string(),
+                    _ => welib_clamped_beam(),
+                };
+                std::fs::write(&path, text).unwrap();
+                path
+            }
+        }
+    }
+}
+
 /// One body of the Exudyn check.
 struct Case {
     name: &'static str,
+    mesh: Mesh,
     /// `--method` of `flexbody reduce`.
     method: &'static str,
     modes: usize,
     interface: &'static [u64],
-    /// Every DOF of the nodes at x = 0 fixed.
-    clamped: bool,
+    /// The node where the force acts and the pendulum hangs.
+    tip: u64,
 }
 
-/// The tip node (x = 0.6 m), where the force acts and the pendulum hangs.
-const TIP: u64 = 13;
-
-const CASES: [Case; 3] = [
+const CASES: [Case; 6] = [
     Case {
         name: "free_residual",
+        mesh: Mesh::HexBar { clamped: false },
         method: "free-residual",
         modes: 4,
-        interface: &[TIP],
-        clamped: false,
+        interface: &[13],
+        tip: 13,
     },
     Case {
         name: "craig_bampton",
+        mesh: Mesh::HexBar { clamped: false },
         method: "craig-bampton",
         modes: 3,
-        interface: &[1, 27, 79, TIP],
-        clamped: false,
+        interface: &[1, 27, 79, 13],
+        tip: 13,
     },
     Case {
         name: "clamped_craig_bampton",
+        mesh: Mesh::HexBar { clamped: true },
         method: "craig-bampton",
         modes: 4,
-        interface: &[TIP],
-        clamped: true,
+        interface: &[13],
+        tip: 13,
+    },
+    Case {
+        name: "beam_free_residual",
+        mesh: Mesh::SkewBeam,
+        method: "free-residual",
+        modes: 4,
+        interface: &[7],
+        tip: 7,
+    },
+    Case {
+        name: "beam_craig_bampton",
+        mesh: Mesh::SkewBeam,
+        method: "craig-bampton",
+        modes: 3,
+        interface: &[1, 7],
+        tip: 7,
+    },
+    Case {
+        name: "beam_clamped_craig_bampton",
+        mesh: Mesh::ClampedBeam,
+        method: "craig-bampton",
+        modes: 4,
+        interface: &[11],
+        tip: 11,
     },
 ];
 
@@ -112,11 +182,13 @@ fn case_deck(dir: &std::path::Path, clamped: bool) -> PathBuf {
 
 /// Writes what `scripts/exudyn_check.py` reads into `dir`: `body.sid`
 /// (written by the `flexbody reduce --format sid` command), `nodes.txt`
-/// (x y z per node, DOF order), `mass.mtx` and `stiffness.mtx` (full M and
-/// K of the unconstrained mesh: the clamped nodes too), `modes.mtx` (the
-/// SID's elastic mode shapes Phi on those DOFs, zero where clamped,
-/// m x nq), and `flexbody.json` (the case, frequencies, load, settings,
-/// tip node, and the tip displacement history of flexbody's
+/// (x y z per node, in the order of the mesh's nodes), `mass.mtx` and
+/// `stiffness.mtx` (full M and K of the unconstrained mesh: the clamped
+/// nodes too), `modes.mtx` (the SID's elastic mode shapes Phi on those
+/// DOFs, zero where clamped, m x nq), for a beam `beam.json` (what
+/// `scripts/beam_invariants.py` reads: the beam's elements and Phi at
+/// every node), and `flexbody.json` (the case, frequencies, load,
+/// settings, tip node, and the tip displacement history of flexbody's
 /// trapezoidal-rule time response).
 fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
     use flexbody::fem::{Model, Substructure};
@@ -126,7 +198,7 @@ fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
     use flexbody::reduce::ffrf::elastic_basis;
     use flexbody::reduce::ModeKind;
     std::fs::create_dir_all(dir).unwrap();
-    let deck = case_deck(dir, case.clamped);
+    let deck = case.mesh.model(dir);
     let interface: Vec<String> = case.interface.iter().map(u64::to_string).collect();
     run_ok(&reduce_args(
         &deck,
@@ -142,7 +214,7 @@ fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
         _ => Method::CraigBampton,
     };
     let body = reduce_with(&sub, method, case.modes, case.interface);
-    let tip = TIP;
+    let tip = case.tip;
     let basis = elastic_basis(&sub, &body).unwrap();
     let nq = basis.shapes.ncols();
     let elastic = ReducedBody {
@@ -232,22 +304,30 @@ fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
         }
     }
     std::fs::write(dir.join("modes.mtx"), modes).unwrap();
+    // Node by node, each node's DOFs together: 3 translations of a solid,
+    // 6 DOFs of a 3D beam.
+    let per_node = if case.mesh.is_beam() { 6 } else { 3 };
+    assert_eq!(full.dof_map.len(), per_node * model.nodes().len());
     let mut nodes = String::new();
-    let mut tip_index = None;
-    for (p, i) in (0..full.dof_map.len()).step_by(3).enumerate() {
-        let d = full.dof_map.dof(i);
-        assert_eq!(d.kind, DofKind::Ux, "3 translations per node");
-        if d.node == tip {
-            tip_index = Some(p);
+    for (p, n) in model.nodes().iter().enumerate() {
+        for (k, kind) in DofKind::ALL[..per_node].iter().enumerate() {
+            assert_eq!(full.dof_map.dof(per_node * p + k), Dof::new(n.id, *kind));
         }
-        let x = full.node_coordinates(d.node).unwrap();
-        nodes.push_str(&format!("{:e} {:e} {:e}\n", x[0], x[1], x[2]));
+        nodes.push_str(&format!(
+            "{:e} {:e} {:e}\n",
+            n.coords[0], n.coords[1], n.coords[2]
+        ));
     }
+    let tip_index = model.nodes().iter().position(|n| n.id == tip);
     std::fs::write(dir.join("nodes.txt"), nodes).unwrap();
+    if case.mesh.is_beam() {
+        write_beam_case(&model, &sub, &body, &dir.join("beam.json"));
+    }
     let doc = serde_json::json!({
         "case": case.name,
         "method": case.method,
-        "clamped": case.clamped,
+        "clamped": case.mesh.clamped(),
+        "beam": case.mesh.is_beam(),
         "frequencies_hz": basis.frequencies_hz,
         "tip_node_index": tip_index.unwrap(),
         "tip_node_id": tip,
