@@ -222,10 +222,18 @@ fn nodes_summary(nodes: &[BodyNode]) -> String {
         None => "; no lumped masses".into(),
     };
     format!(
-        "mesh: {} node{}, {located} with coordinates{mass}\n",
-        nodes.len(),
-        if nodes.len() == 1 { "" } else { "s" }
+        "mesh: {}, {located} with coordinates{mass}\n",
+        counted(nodes.len(), "node")
     )
+}
+
+/// `n` and `noun`, plural unless `n` is 1: "1 node", "3 nodes".
+fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
 }
 
 /// Reads a reduced body from `path`, recognising the format: a folder (or
@@ -350,9 +358,9 @@ pub fn summary(body: &ReducedBody) -> String {
     let nodes: BTreeSet<u64> = body.interface.iter().map(|d| d.node).collect();
     let _ = writeln!(
         s,
-        "interface: {} DOFs at {} nodes: {}",
-        body.interface.len(),
-        nodes.len(),
+        "interface: {} at {}: {}",
+        counted(body.interface.len(), "DOF"),
+        counted(nodes.len(), "node"),
         list_nodes(nodes.iter().copied())
     );
     let damping = match &body.damping {
@@ -385,8 +393,8 @@ fn sid_summary(sid: &Sid, dialect: sid::Dialect) -> String {
     );
     let _ = writeln!(
         s,
-        "interface: {} nodes: {}",
-        sid.nodes.len(),
+        "interface: {}: {}",
+        counted(sid.nodes.len(), "node"),
         list_nodes(sid.nodes.iter().map(|n| n.id))
     );
     match sid.frequencies_hz() {
