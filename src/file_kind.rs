@@ -33,6 +33,8 @@ pub enum FileKind {
     Sid,
     /// A reduced body as a folder of Matrix Market files, or its `index.json`.
     MtxFolder,
+    /// MBDyn's modal FEM file, which flexbody writes but does not read.
+    MbdynFem,
 }
 
 impl FileKind {
@@ -47,6 +49,10 @@ impl FileKind {
             FileKind::Json => "a JSON file",
             FileKind::Sid => "a reduced body (SID)",
             FileKind::MtxFolder => "a reduced body (Matrix Market folder)",
+            FileKind::MbdynFem => {
+                "MBDyn's modal FEM file, which flexbody writes for MBDyn but does not read \
+                 (inspect the JSON or SID of the same reduction)"
+            }
         }
     }
 
@@ -89,6 +95,9 @@ fn sniff(head: &str, ext: &str) -> Option<FileKind> {
         .map(str::trim)
         .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with('!'));
     if let Some(line) = first {
+        if line.starts_with("**") && head.to_ascii_uppercase().contains("** RECORD GROUP 1") {
+            return Some(FileKind::MbdynFem);
+        }
         if line.starts_with('*') {
             return Some(FileKind::Deck);
         }
@@ -257,5 +266,9 @@ mod tests {
         assert_eq!(sniff("[study\n", "toml"), Some(FileKind::ModelFile));
         assert_eq!(sniff("1 2 3.0\n", "sti"), Some(FileKind::CalculixMatrices));
         assert_eq!(sniff("1 2 3.0\n", "txt"), None);
+        assert_eq!(
+            sniff("** MBDyn modal file\n** RECORD GROUP 1, HEADER\n", "fem"),
+            Some(FileKind::MbdynFem)
+        );
     }
 }

@@ -45,6 +45,28 @@ fn inspect_on_a_deck_says_it_reads_reduced_bodies() {
 }
 
 #[test]
+fn inspect_on_an_mbdyn_file_says_flexbody_writes_it_but_does_not_read_it() {
+    // Its `**` comments would make it look like a deck.
+    let dir = tempfile::tempdir().unwrap();
+    let fem = dir.path().join("body.fem");
+    let o = flexbody(&reduce_args(
+        hex_beam_deck(),
+        "free-residual",
+        "2",
+        &fem,
+        &["--interface", "13", "--format", "mbdyn"],
+    ));
+    assert!(o.status.success(), "{}", stderr(&o));
+    fails_with(
+        &["inspect", fem.to_str().unwrap()],
+        &[
+            "body.fem is MBDyn's modal FEM file, which flexbody writes for MBDyn but does not read",
+            "`inspect` takes a reduced body",
+        ],
+    );
+}
+
+#[test]
 fn inspect_on_a_model_file_says_it_reads_reduced_bodies() {
     let model = super::side_beam_path();
     fails_with(
