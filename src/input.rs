@@ -325,6 +325,7 @@ pub fn file_reduction(
     interface: Vec<Dof>,
 ) -> Reduction {
     let mut spec = Reduction::new(method, modes, interface);
+    spec.local_axes = file.model.local_axes().clone();
     spec.support = file.support.clone();
     spec.springs = file.ground_springs();
     if method.takes_force_groups() {

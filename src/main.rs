@@ -617,6 +617,9 @@ fn run_reduce(
         Some(file) => input::file_reduction(file, method, modes, interface),
         None => Reduction::new(method, modes, interface),
     };
+    if let Some(model) = &c.model {
+        spec.local_axes = model.local_axes().clone();
+    }
     spec.max_frequency_hz = fmax;
     spec.orthonormalize = orthonormalize;
     spec.memory = budget;

@@ -256,9 +256,14 @@ fn histories(
             kinds.push(HistoryKind::RigidBody);
         }
     }
-    // Displacements of the flexible body's interface DOFs (u_j = T_j q, eq. 8).
+    // Displacements of the flexible body's interface DOFs (u_j = T_j q,
+    // eq. 8), along the local axes at a node that has them.
     for dof in &file.interface {
-        if let Some(row) = body.dof_row(*dof) {
+        let row = match file.model.local_axes().get(&dof.node) {
+            Some(r) => local_row(&body, r, *dof),
+            None => body.dof_row(*dof),
+        };
+        if let Some(row) = row {
             let unit = if dof.kind.is_rotation() { "rad" } else { "m" };
             columns.push((
                 format!("{dof} ({unit})"),
@@ -465,4 +470,24 @@ fn stress_histories(
         }
     }
     Ok(columns)
+}
+
+/// The row of the local component `dof` at a node with axes `r`:
+/// `sum_j R_ji row_j` over the global rows of its family.
+fn local_row(
+    body: &crate::mbs::FlexibleBody,
+    r: &crate::fem::Axes,
+    dof: crate::fem::Dof,
+) -> Option<Vec<(usize, f64)>> {
+    let i = dof.kind.index() % 3;
+    let mut sum: std::collections::BTreeMap<usize, f64> = Default::default();
+    for (j, kind) in crate::fem::transform::family(dof.kind)
+        .into_iter()
+        .enumerate()
+    {
+        for (c, v) in body.dof_row(crate::fem::Dof::new(dof.node, kind))? {
+            *sum.entry(c).or_default() += r[j][i] * v;
+        }
+    }
+    Some(sum.into_iter().filter(|(_, v)| *v != 0.0).collect())
 }

@@ -79,7 +79,10 @@ pub(super) fn interface(
                 .enumerate()
             {
                 let d = Dof::new(node, kind);
-                if r.direction[k] != 0.0 && !out.dofs.contains(&d) {
+                // At a node with local axes the interface DOFs are local;
+                // the connection's global direction needs all three.
+                let along = r.direction[k] != 0.0 || model.local_axes().contains_key(&node);
+                if along && !out.dofs.contains(&d) {
                     out.dofs.push(d);
                 }
             }

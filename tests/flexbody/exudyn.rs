@@ -230,6 +230,7 @@ fn write_exudyn_data(dir: &std::path::Path, case: &Case) {
             .map(|f| ModeKind::Orthonormal { frequency_hz: *f })
             .collect(),
         interface: body.interface.clone(),
+        local_axes: Default::default(),
     };
     let f1 = basis.frequencies_hz[0];
     let (amplitude, frequency_hz) = (1000.0, 0.37 * f1);

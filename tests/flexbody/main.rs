@@ -22,6 +22,7 @@ mod file_kinds;
 mod guidance;
 mod hostile_values;
 mod interfaces;
+mod local_interface;
 mod mbdyn;
 mod memory;
 mod model_constraints;

@@ -155,6 +155,7 @@ impl AnyBody {
                     "mass_kg": body_mass(body),
                     "interface_nodes": nodes,
                     "interface_dofs": body.interface.iter().map(|d| d.to_string()).collect::<Vec<_>>(),
+                    "local_axes_nodes": body.local_axes.keys().collect::<Vec<_>>(),
                     "nodes": mesh.len(),
                     "lumped_mass_kg": lumped_mass(mesh),
                 })
@@ -363,6 +364,14 @@ pub fn summary(body: &ReducedBody) -> String {
         counted(nodes.len(), "node"),
         list_nodes(nodes.iter().copied())
     );
+    if !body.local_axes.is_empty() {
+        let _ = writeln!(
+            s,
+            "interface DOFs along local axes (*TRANSFORM) at {}: {}",
+            counted(body.local_axes.len(), "node"),
+            list_nodes(body.local_axes.keys().copied())
+        );
+    }
     let damping = match &body.damping {
         Some(_) => "D_red = T^T D T (eq. 5-7)",
         None => "none",

@@ -267,6 +267,40 @@ impl Drop for FileSet {
 /// `ux uy uz` (kg) and `rx ry rz` (kg m^2) ([`flexbody_fem::lumped`]). With
 /// a mesh every node is listed, fixed ones too, so that each direction's
 /// masses sum to the whole body's mass.
+/// An interface node whose interface DOFs are along local axes (a
+/// `*TRANSFORM`), as a body file lists it: the node and the axes, one
+/// column per local axis in global components ([`ReducedBody::local_axes`]).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LocalAxesEntry {
+    pub node: u64,
+    pub axes: [[f64; 3]; 3],
+}
+
+/// The entries of a body's local axes, by node.
+pub fn local_axes_entries(body: &ReducedBody) -> Vec<LocalAxesEntry> {
+    body.local_axes
+        .iter()
+        .map(|(node, axes)| LocalAxesEntry {
+            node: *node,
+            axes: *axes,
+        })
+        .collect()
+}
+
+/// The local axes of a body file's entries; a node listed twice is refused.
+pub(crate) fn local_axes_of(
+    entries: Vec<LocalAxesEntry>,
+) -> Result<std::collections::BTreeMap<u64, flexbody_fem::Axes>, String> {
+    let mut out = std::collections::BTreeMap::new();
+    for e in entries {
+        if out.insert(e.node, e.axes).is_some() {
+            return Err(format!("node {} is listed twice", e.node));
+        }
+    }
+    Ok(out)
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct BodyNode {
     pub id: NodeId,
@@ -326,6 +360,9 @@ pub struct BodyFile {
     pub r: usize,
     pub dofs: Vec<Dof>,
     pub interface: Vec<Dof>,
+    /// The interface nodes whose DOFs in `interface` are along local axes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub local_axes: Vec<LocalAxesEntry>,
     pub modes: Vec<ModeKind>,
     /// Natural frequencies of the free reduced body (Hz).
     pub frequencies_hz: Vec<f64>,
@@ -378,6 +415,7 @@ impl BodyFile {
             r: body.r(),
             dofs: body.dof_map.dofs().to_vec(),
             interface: body.interface.clone(),
+            local_axes: local_axes_entries(body),
             modes: body.modes.clone(),
             frequencies_hz,
             mass: rows(&body.mass),
@@ -481,6 +519,7 @@ impl BodyFile {
             damping,
             modes: self.modes,
             interface: self.interface,
+            local_axes: local_axes_of(self.local_axes).map_err(|m| ("local_axes", m))?,
         };
         body.check().map_err(|d| (d.block, d.message))?;
         check_nodes(&self.nodes).map_err(|message| ("nodes", message))?;
@@ -591,6 +630,7 @@ mod tests {
                 },
             ],
             interface: vec![],
+            local_axes: Default::default(),
         }
     }
 

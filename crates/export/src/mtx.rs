@@ -55,6 +55,9 @@ pub struct Index {
     pub frequencies_hz: Vec<f64>,
     pub dofs: Vec<Dof>,
     pub interface: Vec<Dof>,
+    /// The interface nodes whose DOFs in `interface` are along local axes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub local_axes: Vec<crate::LocalAxesEntry>,
     /// The nodes of the mesh (coordinates, lumped masses), or those of
     /// `dofs` without them.
     pub nodes: Vec<BodyNode>,
@@ -155,6 +158,7 @@ pub fn write_mtx(
         frequencies_hz,
         dofs: body.dof_map.dofs().to_vec(),
         interface: body.interface.clone(),
+        local_axes: crate::local_axes_entries(body),
         nodes,
         metadata: metadata.clone(),
         files,
@@ -459,6 +463,8 @@ pub fn read_mtx_with_nodes(dir: &Path) -> Result<(ReducedBody, Vec<BodyNode>), E
         damping,
         modes: index.modes,
         interface: index.interface,
+        local_axes: crate::local_axes_of(index.local_axes)
+            .map_err(|m| bad(format!("block 'local_axes': {m}")))?,
     };
     body.check().map_err(|d| {
         // The matrix's own file, or the index for the mode descriptions.

@@ -124,7 +124,8 @@ pub struct SidNode {
     pub phi: Taylor,
     /// Rotational mode shapes (3 x nq).
     pub psi: Taylor,
-    /// Orientation `I + psi~ q` (3 x 3, first order).
+    /// Orientation of the node frame `(I + psi~ q) R` (3 x 3, first
+    /// order; `R = I` unless the interface is along local axes there).
     pub ap: Taylor,
 }
 
@@ -171,6 +172,9 @@ impl Sid {
             .into_iter()
             .map(|node| {
                 let (id, x, phi, psi) = (node.id, node.position, node.translations, node.rotations);
+                // The node frame: the local axes where the interface is
+                // along them, else the body frame's.
+                let axes = node.axes.map_or_else(|| Mat::identity(3, 3), m33);
                 SidNode {
                     id,
                     origin: Taylor::linear(
@@ -180,9 +184,9 @@ impl Sid {
                             .collect(),
                     ),
                     ap: Taylor::linear(
-                        Mat::identity(3, 3),
+                        axes.clone(),
                         (0..nq)
-                            .map(|k| skew([psi[(0, k)], psi[(1, k)], psi[(2, k)]]))
+                            .map(|k| skew([psi[(0, k)], psi[(1, k)], psi[(2, k)]]) * &axes)
                             .collect(),
                     ),
                     phi: Taylor::constant(phi, nq),

@@ -11,6 +11,7 @@ pub mod coupling;
 pub mod dof;
 pub mod element;
 pub mod id_hash;
+pub mod local_axes;
 pub mod lumped;
 pub mod mesh;
 pub mod model;
@@ -25,6 +26,7 @@ pub use constraint::{Equation, MpcKind};
 pub use coupling::{Coupling, CouplingKind};
 pub use dof::{Dof, DofKind, DofMap};
 pub use element::{Element, ElementMatrices, SectionForces};
+pub use local_axes::{Axes, AxesChange};
 pub use model::{Model, ModelParts, Node, NodeId, Rayleigh, ValueTerms};
 pub use section::{BeamProperties, BeamTheory, Material, SectionShape};
 pub use substructure::{Substructure, Support};
@@ -76,6 +78,9 @@ pub enum FemError {
     InvalidConstraint { name: String, reason: String },
     #[error("the model has no DOFs")]
     Empty,
+    /// Local axes that cannot be used where they are given.
+    #[error("local axes: {0}")]
+    LocalAxes(String),
     #[error(transparent)]
     Linalg(#[from] flexbody_linalg::LinalgError),
 }

@@ -6,6 +6,7 @@ use crate::coupling::{Constraints, Coupling};
 use crate::dof::{Dof, DofKind, DofMap};
 use crate::element::Element;
 use crate::id_hash::{id_map, IdMap};
+use crate::local_axes::Axes;
 use crate::FemError;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
@@ -63,6 +64,7 @@ pub struct Model {
     rayleigh: Option<Rayleigh>,
     couplings: Vec<Coupling>,
     equations: Vec<Equation>,
+    local_axes: BTreeMap<NodeId, Axes>,
     /// Dependent DOFs of the couplings and equations as combinations of
     /// free DOFs, eliminated from the DOF map.
     constraints: Constraints,
@@ -92,6 +94,7 @@ pub struct ModelParts {
     rayleigh: Option<Rayleigh>,
     couplings: Vec<Coupling>,
     equations: Vec<Equation>,
+    local_axes: BTreeMap<NodeId, Axes>,
 }
 
 impl ModelParts {
@@ -127,6 +130,13 @@ impl ModelParts {
         Self { equations, ..self }
     }
 
+    /// Nodal coordinate systems (`*TRANSFORM`): the DOFs a user names at
+    /// these nodes for the interface of a reduction are along the local
+    /// axes ([`Model::local_axes`]). The model's own DOFs stay global.
+    pub fn local_axes(self, local_axes: BTreeMap<NodeId, Axes>) -> Self {
+        Self { local_axes, ..self }
+    }
+
     /// The checked model ([`Model::new`], then the couplings).
     pub fn build(self) -> Result<Model, FemError> {
         Model::assemble(self)
@@ -145,6 +155,7 @@ impl Model {
             rayleigh: None,
             couplings: Vec::new(),
             equations: Vec::new(),
+            local_axes: BTreeMap::new(),
         }
     }
 
@@ -164,6 +175,7 @@ impl Model {
             rayleigh,
             couplings: Vec::new(),
             equations: Vec::new(),
+            local_axes: BTreeMap::new(),
         })
     }
 
@@ -177,6 +189,7 @@ impl Model {
             rayleigh,
             couplings,
             equations,
+            local_axes,
         } = parts;
         let mut node_index = id_map(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
@@ -213,6 +226,15 @@ impl Model {
                 }
             }
         }
+        for (node, r) in &local_axes {
+            if !node_index.contains_key(node) {
+                return Err(FemError::UnknownNodeIn {
+                    what: "local axes (*TRANSFORM)".into(),
+                    node: *node,
+                });
+            }
+            crate::local_axes::check_axes(*node, r)?;
+        }
         if let Some(r) = rayleigh {
             crate::require_non_negative("Rayleigh alpha", r.alpha)?;
             crate::require_non_negative("Rayleigh beta", r.beta)?;
@@ -226,6 +248,7 @@ impl Model {
             rayleigh,
             couplings,
             equations,
+            local_axes,
             constraints: Constraints::new(),
             dof_map: DofMap::default(),
         };
@@ -252,6 +275,13 @@ impl Model {
     /// The linear constraints of the model, as given.
     pub fn equations(&self) -> &[Equation] {
         &self.equations
+    }
+
+    /// The nodes with a local coordinate system (`*TRANSFORM`) and its
+    /// axes: where a reduction's interface names DOFs of these nodes, they
+    /// are along the local axes ([`crate::local_axes`]).
+    pub fn local_axes(&self) -> &BTreeMap<NodeId, Axes> {
+        &self.local_axes
     }
 
     /// Free DOFs: those the stiffness-carrying elements and coupling points

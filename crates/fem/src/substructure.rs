@@ -4,9 +4,10 @@
 use crate::assembly::{assemble, SystemMatrices};
 use crate::dof::{Dof, DofMap};
 use crate::element::Element;
+use crate::local_axes::{Axes, AxesChange};
 use crate::model::{Model, NodeId};
 use crate::FemError;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// Whether the component is held by boundary conditions.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -29,6 +30,9 @@ pub struct Substructure {
     pub coordinates: HashMap<NodeId, [f64; 3]>,
     pub support: Support,
     pub matrices: SystemMatrices,
+    /// Nodes whose equations are along local axes ([`Substructure::in_local_axes`]);
+    /// empty: every equation is along a global axis.
+    pub local_axes: BTreeMap<NodeId, Axes>,
 }
 
 impl Substructure {
@@ -48,6 +52,7 @@ impl Substructure {
                 Support::Free
             },
             matrices: assemble(model)?,
+            local_axes: BTreeMap::new(),
         })
     }
 
@@ -62,7 +67,51 @@ impl Substructure {
             coordinates,
             support: Support::Unknown,
             matrices,
+            local_axes: BTreeMap::new(),
         }
+    }
+
+    /// The substructure over local DOFs at the nodes of `axes` (report
+    /// eq. 1 under the orthogonal change of basis `u = T u'` of
+    /// [`AxesChange`]): `K' = T^T K T`, `M' = T^T M T`, `D' = T^T D T`, the
+    /// same DOF names, which at these nodes mean the local axes. Returns the
+    /// change too, to turn a basis over the new equations back to global
+    /// rows (`Phi = T Phi'`). Nodes already along local axes are refused.
+    pub fn in_local_axes(
+        &self,
+        axes: &BTreeMap<NodeId, Axes>,
+    ) -> Result<(Substructure, AxesChange), FemError> {
+        if let Some(node) = self.local_axes.keys().next() {
+            return Err(FemError::LocalAxes(format!(
+                "node {node}: the substructure is along local axes already"
+            )));
+        }
+        let change = AxesChange::new(&self.dof_map, axes)?;
+        let m = &self.matrices;
+        let matrices = SystemMatrices {
+            stiffness: change.congruence(&m.stiffness)?,
+            mass: change.congruence(&m.mass)?,
+            damping: m
+                .damping
+                .as_ref()
+                .map(|d| change.congruence(d))
+                .transpose()?,
+        };
+        let local_axes = axes
+            .iter()
+            .filter(|(n, _)| !self.dof_map.node_dofs(**n).is_empty())
+            .map(|(n, r)| (*n, *r))
+            .collect();
+        Ok((
+            Substructure {
+                dof_map: self.dof_map.clone(),
+                coordinates: self.coordinates.clone(),
+                support: self.support,
+                matrices,
+                local_axes,
+            },
+            change,
+        ))
     }
 
     /// Number of equations.

@@ -276,6 +276,7 @@ fn modal_stress_of_linear_fields_is_hookes_law_of_the_combination() {
             damping: None,
             modes: vec![ModeKind::Eigen { frequency_hz: 0.0 }; 2],
             interface: vec![],
+            local_axes: Default::default(),
         };
         let q = [0.7, -1.3];
         let combined: [[f64; 3]; 3] = std::array::from_fn(|i| {

@@ -2,10 +2,13 @@
 
 use crate::method::Method;
 use faer::{Mat, MatRef};
-use flexbody_fem::{Dof, DofMap};
+use flexbody_fem::local_axes::rows_along;
+use flexbody_fem::transform::family;
+use flexbody_fem::{Axes, Dof, DofMap, NodeId};
 use flexbody_linalg::eigen::{frequency_hz, generalized_symmetric};
 use flexbody_linalg::LinalgError;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// Natural frequencies (Hz) of `K x = w^2 M x` for small dense symmetric
 /// matrices, ascending: those of a free reduced body for `K_red`, `M_red`
@@ -55,6 +58,11 @@ pub struct ReducedBody {
     pub modes: Vec<ModeKind>,
     /// Interface DOFs (rows `T_j` for coupling).
     pub interface: Vec<Dof>,
+    /// Interface nodes whose DOFs in [`ReducedBody::interface`] (and in the
+    /// mode descriptions) are along local axes (a `*TRANSFORM`): there,
+    /// [`ReducedBody::interface_rows`] are `R^T` times the global rows. The
+    /// basis itself is over the global DOFs everywhere.
+    pub local_axes: BTreeMap<NodeId, Axes>,
 }
 
 impl ReducedBody {
@@ -76,14 +84,30 @@ impl ReducedBody {
         Some((0..self.r()).map(|j| self.basis[(i, j)]).collect())
     }
 
-    /// Interface rows `T_j` (s x r), in the order of [`ReducedBody::interface`].
+    /// The row of `T` of an interface DOF: the global row, or at a node
+    /// with local axes `R` the local component `sum_j R_ji row_j` of the
+    /// global rows of its family (translations or rotations).
+    pub fn interface_row(&self, dof: Dof) -> Option<Vec<f64>> {
+        let Some(r) = self.local_axes.get(&dof.node) else {
+            return self.row_of(dof);
+        };
+        let rows = family(dof.kind).map(|k| self.row_of(Dof::new(dof.node, k)));
+        let [Some(x), Some(y), Some(z)] = rows else {
+            return None;
+        };
+        let local = rows_along(r, [&x, &y, &z]);
+        Some(local[dof.kind.index() % 3].clone())
+    }
+
+    /// Interface rows `T_j` (s x r), in the order of [`ReducedBody::interface`]
+    /// ([`ReducedBody::interface_row`]).
     pub fn interface_rows(&self) -> Mat<f64> {
-        let eq: Vec<usize> = self
+        let rows: Vec<Vec<f64>> = self
             .interface
             .iter()
-            .filter_map(|d| self.dof_map.index_of(*d))
+            .filter_map(|d| self.interface_row(*d))
             .collect();
-        self.rows(&eq)
+        Mat::from_fn(rows.len(), self.r(), |i, j| rows[i][j])
     }
 
     /// FE displacements `u = T q`.
@@ -189,6 +213,7 @@ impl ReducedBody {
                 })
                 .collect(),
             interface: self.interface.clone(),
+            local_axes: self.local_axes.clone(),
         })
     }
 }

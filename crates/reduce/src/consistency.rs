@@ -60,6 +60,34 @@ impl ReducedBody {
                 }
             }
         }
+        for (node, r) in &self.local_axes {
+            flexbody_fem::local_axes::check_axes(*node, r)
+                .map_err(|e| defect("local_axes", e.to_string()))?;
+            if !self.interface.iter().any(|d| d.node == *node) {
+                return Err(defect(
+                    "local_axes",
+                    format!("node {node} has local axes but no interface DOF"),
+                ));
+            }
+            if let Some(d) = self
+                .interface
+                .iter()
+                .find(|d| d.node == *node && self.interface_row(**d).is_none())
+            {
+                return Err(defect(
+                    "local_axes",
+                    format!(
+                        "interface DOF {d} is along local axes, but the body lacks one of \
+                         the node's three {}",
+                        if d.kind.is_rotation() {
+                            "rotations"
+                        } else {
+                            "translations"
+                        }
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 }
@@ -87,6 +115,7 @@ mod tests {
                 },
             ],
             interface: vec![],
+            local_axes: Default::default(),
         }
     }
 

@@ -27,12 +27,13 @@ use crate::products::Matrices;
 use crate::ReduceError;
 use faer::sparse::Triplet;
 use faer::Mat;
-use flexbody_fem::{Dof, DofKind, FemError, Substructure, Support};
+use flexbody_fem::{Axes, AxesChange, Dof, DofKind, FemError, NodeId, Substructure, Support};
 use flexbody_linalg::eigen::leading_zeros;
 use flexbody_linalg::memory::Budget;
 use flexbody_linalg::progress::{NoProgress, Progress};
 use flexbody_linalg::{sparse, LinalgError, SparseMat};
 use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 
 /// Reduction method (CLI and model-file name in kebab-case).
@@ -136,6 +137,17 @@ pub struct Reduction {
     /// this process's resident memory if one is set): a factor, a Lanczos
     /// basis or a dense solve beyond it is refused before it starts.
     pub memory: Budget,
+    /// Local axes at nodes (a model's `*TRANSFORM`,
+    /// [`flexbody_fem::Model::local_axes`]): the DOFs that `interface`,
+    /// `support` and the force groups name at these nodes are along them,
+    /// and so are the body's interface rows there
+    /// ([`ReducedBody::local_axes`]). The reduction then runs over local
+    /// DOFs at those nodes ([`Substructure::in_local_axes`]) and turns the
+    /// basis back to global rows; the reduced matrices are the same as for
+    /// the model meshed with its local axes along the global ones. Nodes
+    /// that none of them names are ignored. Ground springs keep their
+    /// global directions.
+    pub local_axes: BTreeMap<NodeId, Axes>,
 }
 
 impl Reduction {
@@ -150,6 +162,7 @@ impl Reduction {
             force_groups: Vec::new(),
             max_frequency_hz: None,
             memory: Budget::MACHINE,
+            local_axes: BTreeMap::new(),
         }
     }
 }
@@ -167,9 +180,70 @@ pub fn reduce_reporting(
     spec: &Reduction,
     progress: &dyn Progress,
 ) -> Result<ReducedBody, ReduceError> {
+    if let Some(local) = Local::of(sub, spec)? {
+        let body = reduce_reporting(&local.sub, &local.spec, progress)?;
+        return Ok(body_to_global(&local.change, body, &spec.local_axes));
+    }
     let checked = check(sub, spec)?;
     let matrices = Matrices::lent(&sub.matrices.stiffness, &sub.matrices.mass).under(spec.memory);
     reduce_from(sub, matrices, checked, spec, progress)
+}
+
+/// A reduction over local DOFs ([`Reduction::local_axes`]): the
+/// substructure turned at the nodes the spec names, the spec without local
+/// axes, and the change of basis back.
+struct Local {
+    sub: Substructure,
+    spec: Reduction,
+    change: AxesChange,
+}
+
+impl Local {
+    /// `None` when no node the spec names has local axes.
+    fn of(sub: &Substructure, spec: &Reduction) -> Result<Option<Local>, ReduceError> {
+        let mut named: BTreeSet<NodeId> = spec.interface.iter().map(|d| d.node).collect();
+        named.extend(spec.support.iter().flatten().map(|d| d.node));
+        named.extend(
+            spec.force_groups
+                .iter()
+                .flat_map(|g| g.loads.iter().map(|(d, _)| d.node)),
+        );
+        let axes: BTreeMap<NodeId, Axes> = spec
+            .local_axes
+            .iter()
+            .filter(|(n, _)| named.contains(n))
+            .map(|(n, r)| (*n, *r))
+            .collect();
+        if axes.is_empty() {
+            return Ok(None);
+        }
+        let (turned, change) = sub.in_local_axes(&axes)?;
+        Ok(Some(Local {
+            sub: turned,
+            spec: Reduction {
+                local_axes: BTreeMap::new(),
+                ..spec.clone()
+            },
+            change,
+        }))
+    }
+}
+
+/// The body of a local reduction with its basis over global rows
+/// (`Phi = T Phi'`) and the axes of its interface nodes.
+fn body_to_global(
+    change: &AxesChange,
+    mut body: ReducedBody,
+    axes: &BTreeMap<NodeId, Axes>,
+) -> ReducedBody {
+    change.rows_to_global(&mut body.basis);
+    let nodes: BTreeSet<NodeId> = body.interface.iter().map(|d| d.node).collect();
+    body.local_axes = axes
+        .iter()
+        .filter(|(n, _)| nodes.contains(n))
+        .map(|(n, r)| (*n, *r))
+        .collect();
+    body
 }
 
 /// Which of `sub`'s stiffness and mass a caller of [`reduce_keeping`]
@@ -202,6 +276,21 @@ pub fn reduce_keeping(
 ) -> Result<ReducedBody, ReduceError> {
     if keep == Keep::Both {
         return reduce_reporting(sub, spec, progress);
+    }
+    if let Some(local) = Local::of(sub, spec)? {
+        // The turned copy holds the matrices the solves need; the caller's
+        // go as `keep` says.
+        let Local {
+            sub: mut turned,
+            spec: local_spec,
+            change,
+        } = local;
+        take(&mut sub.matrices.stiffness)?;
+        if keep == Keep::Neither {
+            take(&mut sub.matrices.mass)?;
+        }
+        let body = reduce_keeping(&mut turned, &local_spec, Keep::Neither, progress)?;
+        return Ok(body_to_global(&change, body, &spec.local_axes));
     }
     let checked = check(sub, spec);
     let k = take(&mut sub.matrices.stiffness)?;
@@ -478,6 +567,7 @@ fn reduce_from(
         basis,
         modes: kinds,
         interface: spec.interface.clone(),
+        local_axes: Default::default(),
     };
     if spec.orthonormalize {
         Ok(body.orthonormalized()?)
@@ -608,6 +698,11 @@ pub fn support_stiffness(
                 value: 0.0,
             })
         })?;
+        // Along the node's local axes where its equations are (d' = R^T d).
+        let d = match sub.local_axes.get(&s.node) {
+            Some(r) => std::array::from_fn(|i| (0..3).map(|j| r[j][i] * d[j]).sum()),
+            None => d,
+        };
         let kinds = [DofKind::Ux, DofKind::Uy, DofKind::Uz];
         let mut eq = [None; 3];
         for a in 0..3 {

@@ -349,7 +349,8 @@ pub(super) fn build(reader: Reader<'_>) -> Result<Built, InputError> {
         .node_sets(node_sets)
         .fixed(kept)
         .couplings(coupled)
-        .equations(equations);
+        .equations(equations)
+        .local_axes(systems.iter().map(|(n, (r, _))| (*n, *r)).collect());
     if let Some((rayleigh, _)) = modal_rayleigh {
         parts = parts.rayleigh(rayleigh);
     }

@@ -175,6 +175,8 @@ struct Builder<'a> {
     /// Equations of the deck (`*EQUATION`, `*MPC`, `*TIE`), before the
     /// file's own.
     deck_equations: Vec<Equation>,
+    /// The deck's nodal coordinate systems (`*TRANSFORM`).
+    deck_local_axes: std::collections::BTreeMap<flexbody_fem::NodeId, flexbody_fem::Axes>,
     /// Damping of the deck, unless the file has `[damping]`.
     deck_damping: Option<Rayleigh>,
     /// Element sets, materials and sections of the deck, for the user
@@ -240,6 +242,7 @@ impl<'a> Builder<'a> {
             deck_fixed: Vec::new(),
             deck_couplings: Vec::new(),
             deck_equations: Vec::new(),
+            deck_local_axes: Default::default(),
             deck_damping: None,
             deck_element_sets: BTreeMap::new(),
             deck_surfaces: BTreeMap::new(),
@@ -334,6 +337,7 @@ impl<'a> Builder<'a> {
         self.deck_fixed = deck.model.fixed_dofs().copied().collect();
         self.deck_couplings = deck.model.couplings().to_vec();
         self.deck_equations = deck.model.equations().to_vec();
+        self.deck_local_axes = deck.model.local_axes().clone();
         self.deck_damping = deck.model.rayleigh();
         self.deck_element_sets = deck.element_sets.clone();
         self.deck_surfaces = deck.element_surfaces.clone();
@@ -582,7 +586,8 @@ impl<'a> Builder<'a> {
                     .into_iter()
                     .chain(constraints.equations)
                     .collect(),
-            );
+            )
+            .local_axes(self.deck_local_axes);
         if let Some(damping) = raw.damping.or(self.deck_damping) {
             parts = parts.rayleigh(damping);
         }

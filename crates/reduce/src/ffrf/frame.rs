@@ -21,6 +21,11 @@ pub struct FrameNode {
     /// The node's rows of `Phi` for `rx, ry, rz` (3 x nq, zero rows where
     /// the node has no rotation DOF): its orientation is `I + (psi q)~`.
     pub rotations: Mat<f64>,
+    /// The node's local axes where the body's interface DOFs there are
+    /// along them ([`ReducedBody::local_axes`]): the node frame is then
+    /// `(I + (psi q)~) R`. `translations` and `rotations` stay in global
+    /// components.
+    pub axes: Option<flexbody_fem::Axes>,
 }
 
 /// A reduced body in the floating frame of reference formulation: what a
@@ -62,6 +67,7 @@ impl FloatingFrame {
                     position: sub.node_coordinates(id).unwrap_or([0.0; 3]),
                     translations,
                     rotations,
+                    axes: body.local_axes.get(&id).copied(),
                 }
             })
             .collect();

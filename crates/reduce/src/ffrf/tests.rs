@@ -66,6 +66,7 @@ fn point_model() -> (Substructure, ReducedBody) {
         damping: None,
         modes: vec![ModeKind::Eigen { frequency_hz: 0.0 }; 9],
         interface: vec![],
+        local_axes: Default::default(),
         basis,
     };
     (sub, body)

@@ -9,7 +9,7 @@
 //! bending beam.
 
 use faer::Mat;
-use flexbody_fem::{DofKind, Substructure};
+use flexbody_fem::{AxesChange, DofKind, Substructure};
 use flexbody_linalg::orthonormal::m_orthonormalize;
 use flexbody_linalg::SparseMat;
 
@@ -31,9 +31,11 @@ impl RigidModes {
 
 /// The `m x 6` matrix of eq. 13 about `reference` (no normalisation); rows
 /// of nodes without coordinates are zero (check [`Substructure::has_geometry`]).
+/// At nodes whose equations are along local axes
+/// ([`Substructure::local_axes`]), the rows are the local components.
 pub fn rigid_body_transformation(sub: &Substructure, reference: [f64; 3]) -> Mat<f64> {
     let map = &sub.dof_map;
-    Mat::from_fn(map.len(), 6, |i, col| {
+    let mut t = Mat::from_fn(map.len(), 6, |i, col| {
         let dof = map.dof(i);
         let Some(x) = sub.node_coordinates(dof.node) else {
             return 0.0;
@@ -55,7 +57,14 @@ pub fn rigid_body_transformation(sub: &Substructure, reference: [f64; 3]) -> Mat
             (DofKind::Uz, 4) => -r[0],
             _ => 0.0,
         }
-    })
+    });
+    if !sub.local_axes.is_empty() {
+        // The axes were checked when the substructure was turned.
+        if let Ok(change) = AxesChange::new(map, &sub.local_axes) {
+            change.rows_to_local(&mut t);
+        }
+    }
+    t
 }
 
 /// Rigid-body modes of a free substructure about `reference` (eq. 12-13),
