@@ -259,14 +259,14 @@ fn histories(
     // Displacements of the flexible body's interface DOFs (u_j = T_j q,
     // eq. 8), along the local axes at a node that has them.
     for dof in &file.interface {
-        let row = match file.model.local_axes().get(&dof.node) {
-            Some(r) => local_row(&body, r, *dof),
-            None => body.dof_row(*dof),
+        let (row, along) = match file.model.local_axes().get(&dof.node) {
+            Some(r) => (local_row(&body, r, *dof), " local"),
+            None => (body.dof_row(*dof), ""),
         };
         if let Some(row) = row {
             let unit = if dof.kind.is_rotation() { "rad" } else { "m" };
             columns.push((
-                format!("{dof} ({unit})"),
+                format!("{dof}{along} ({unit})"),
                 r.states
                     .iter()
                     .map(|s| row.iter().map(|&(i, g)| g * s.x[q_at + i]).sum())
