@@ -25,6 +25,7 @@ mod interfaces;
 mod local_interface;
 mod mbdyn;
 mod memory;
+mod mesher_names;
 mod model_constraints;
 mod model_files;
 mod plots;

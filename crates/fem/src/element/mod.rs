@@ -26,7 +26,9 @@ pub use dashpot::{AxialDashpot, Dashpot};
 pub use mass_distribution::{MassDistribution, MassPoint};
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
-pub use registry::{element_types, ElementType, SectionKind, SectionValues};
+pub use registry::{
+    element_types, ElementAlias, ElementType, SectionKind, SectionValues, ELEMENT_ALIASES,
+};
 pub use solid::{von_mises, Solid, SolidKind};
 pub use spring::{AxialSpring, Spring};
 

@@ -33,7 +33,95 @@ impl ElementType {
     pub fn find(name: &str) -> Option<&'static ElementType> {
         element_types().find(|t| t.name.eq_ignore_ascii_case(name))
     }
+
+    /// The type named `name` (case-insensitive), or the type an alias of
+    /// [`ELEMENT_ALIASES`] reads as, with the alias.
+    pub fn resolve(name: &str) -> Option<(&'static ElementType, Option<&'static ElementAlias>)> {
+        if let Some(t) = Self::find(name) {
+            return Some((t, None));
+        }
+        let alias = ELEMENT_ALIASES
+            .iter()
+            .find(|a| a.name.eq_ignore_ascii_case(name))?;
+        Self::find(alias.reads_as).map(|t| (t, Some(alias)))
+    }
 }
+
+/// A name that meshers (Abaqus/CAE, meshio) write for an element flexbody
+/// reads as one of its own types: the mapping is explicit, listed in the
+/// README and reported when a deck uses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElementAlias {
+    /// The name in the deck (`"C3D10MH"`).
+    pub name: &'static str,
+    /// The registered type it is read as (`"C3D10"`).
+    pub reads_as: &'static str,
+    /// What the mapping means, for the report.
+    pub meaning: &'static str,
+}
+
+const HYBRID: &str = "hybrid (H): Abaqus adds an independent pressure, condensed per \
+    element, to handle incompressibility; for a compressible material its K is close to the \
+    displacement element's, and the same where the pressure spans the element's volumetric \
+    strain. flexbody uses the displacement element's K and M (M is the same in both)";
+const MODIFIED_TET: &str = "modified tetrahedron (M): Abaqus' own shape functions and \
+    integration (made for contact), read as the standard quadratic tetrahedron; frequencies \
+    differ at the discretisation level";
+
+/// The names meshers write that flexbody reads as one of its types.
+/// Hybrid and modified names of types flexbody lacks (C3D8RH, C3D15H) are
+/// not here: they are refused like their base types.
+pub const ELEMENT_ALIASES: &[ElementAlias] = &[
+    ElementAlias {
+        name: "C3D4H",
+        reads_as: "C3D4",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D6H",
+        reads_as: "C3D6",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D8H",
+        reads_as: "C3D8",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D10H",
+        reads_as: "C3D10",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D20H",
+        reads_as: "C3D20",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D20RH",
+        reads_as: "C3D20R",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D10M",
+        reads_as: "C3D10",
+        meaning: MODIFIED_TET,
+    },
+    ElementAlias {
+        name: "C3D10MH",
+        reads_as: "C3D10",
+        meaning: "modified hybrid tetrahedron (MH): Abaqus' own shape functions and \
+            integration with a condensed pressure, read as the standard quadratic tetrahedron; \
+            frequencies differ at the discretisation level",
+    },
+    ElementAlias {
+        name: "B31H",
+        reads_as: "B31",
+        meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
+            beams whose axial and shear stiffness dwarf their bending stiffness; read as \
+            flexbody's B31 (a Timoshenko beam), as B31 itself is",
+    },
+];
 
 /// The error of a `build` given section values its type does not take.
 pub(crate) fn wrong_section(type_name: &str, id: usize, section: &SectionValues) -> FemError {

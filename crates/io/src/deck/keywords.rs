@@ -50,11 +50,11 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
 /// Why an element type is refused, for the types users are likely to have.
 fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
-        "C3D8I" => {
+        "C3D8I" | "C3D8IH" => {
             " (incompatible modes are not implemented; use C3D8, or C3D20/C3D20R for bending)"
         }
-        "C3D8R" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
-        "C3D15" => " (use C3D6 or C3D20)",
+        "C3D8R" | "C3D8RH" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
+        "C3D15" | "C3D15H" => " (use C3D6 or C3D20)",
         "B32" | "B32R" | "B31R" => " (use B31)",
         _ if t.starts_with('S') || t.starts_with('M') => {
             " (shells and membranes are not implemented)"
@@ -288,8 +288,8 @@ impl<'a> Reader<'a> {
                 .done
                 .map_or_else(String::new, |l| self.files.describe(l));
             self.warnings.push(format!(
-                "{} ({}) and the boundary conditions, loads and steps after the first frequency \
-                 step (*FREQUENCY on {at}): they do not change the model of that step",
+                "ignored {} ({}) and the boundary conditions, loads and steps after the first \
+                 frequency step (*FREQUENCY on {at}): they do not change the model of that step",
                 card.display,
                 self.files.describe(card.loc)
             ));
@@ -324,7 +324,7 @@ impl<'a> Reader<'a> {
             if note.is_empty() {
                 self.skipped.push(line);
             } else {
-                self.warnings.push(line);
+                self.warnings.push(format!("ignored {line}"));
             }
         }
     }
@@ -413,7 +413,7 @@ impl<'a> Reader<'a> {
         if type_name == "DCOUP3D" {
             return self.dcoup3d(card);
         }
-        let kind = ElementType::find(&type_name).ok_or_else(|| {
+        let (kind, alias) = ElementType::resolve(&type_name).ok_or_else(|| {
             let supported: Vec<&str> = element_types().map(|t| t.name).collect();
             self.error(
                 card.loc,
@@ -424,9 +424,22 @@ impl<'a> Reader<'a> {
                 ),
             )
         })?;
+        if let Some(alias) = alias {
+            if self.warned.insert(format!("element alias {}", alias.name)) {
+                self.warnings.push(format!(
+                    "{} ({}): {} elements are read as {}: {}",
+                    card.display,
+                    self.files.describe(card.loc),
+                    alias.name,
+                    alias.reads_as,
+                    alias.meaning
+                ));
+            }
+        }
         let set = card.value("ELSET").map(name);
         let needed = kind.nodes;
         let mut lines = card.data.iter();
+        let mut extra_nodes_reported = false;
         while let Some(first) = lines.next() {
             let mut fields: Vec<&str> = first.fields.iter().map(String::as_str).collect();
             let mut continued = first.continued;
@@ -450,13 +463,37 @@ impl<'a> Reader<'a> {
                 })?;
                 nodes.push(node);
             }
+            if nodes.len() > needed && kind.section == SectionKind::Solid {
+                // CalculiX reads the nodes a solid has and ignores the
+                // rest. (A beam's extra node is Abaqus' orientation node,
+                // which must not be dropped silently.)
+                if !extra_nodes_reported {
+                    extra_nodes_reported = true;
+                    self.warnings.push(format!(
+                        "{} ({}): element {id} lists {} nodes and type {} uses {needed}; the \
+                         first {needed} are read and the rest ignored, as CalculiX does (check \
+                         the element type if that is not meant)",
+                        card.display,
+                        self.files.describe(first.loc),
+                        nodes.len(),
+                        kind.name
+                    ));
+                }
+                nodes.truncate(needed);
+            }
             if nodes.len() != needed {
                 return Err(self.error(
                     first.loc,
                     format!(
-                        "element {id} has {} nodes, but type {} needs {needed}",
+                        "element {id} has {} nodes, but type {} needs {needed}{}",
                         nodes.len(),
-                        kind.name
+                        kind.name,
+                        if kind.section == SectionKind::Beam && nodes.len() > needed {
+                            " (an orientation node, as Abaqus allows, is not read: give the \
+                             direction on the *BEAM SECTION's second line)"
+                        } else {
+                            ""
+                        }
                     ),
                 ));
             }

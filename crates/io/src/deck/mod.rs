@@ -86,8 +86,10 @@ pub struct Deck {
     pub element_surfaces: BTreeMap<String, Vec<SurfaceFaces>>,
     /// Materials and sections by name.
     pub catalogue: Catalogue,
-    /// What was ignored and may matter: ignored parameters, element-based
-    /// surfaces, fixed DOFs no element has.
+    /// What was ignored or read otherwise than named, and may matter:
+    /// ignored parameters, fixed DOFs no element has, steps after the
+    /// frequency step, element names read as other types, node numbers
+    /// past those a type uses.
     pub warnings: Vec<String>,
     /// Keywords skipped because they do not change the linear K, M or D,
     /// with the line of first use: `"*STEP (line 40)"`.
@@ -99,11 +101,11 @@ pub struct Deck {
 
 impl Deck {
     /// The warnings for the user, each naming the deck:
-    /// `part.inp: ignored *BOUNDARY (line 36): 12 fixed DOF(s) ...`.
+    /// `part.inp: *BOUNDARY (line 36): 12 fixed DOF(s) ignored ...`.
     pub fn warning_lines(&self) -> Vec<String> {
         self.warnings
             .iter()
-            .map(|w| format!("{}: ignored {w}", self.path.display()))
+            .map(|w| format!("{}: {w}", self.path.display()))
             .collect()
     }
 

@@ -32,7 +32,7 @@ pub(crate) struct Built {
     /// Unknown keywords the deck skipped (`options.allow_unknown`).
     pub unknown: UnknownKeywords,
     /// The deck's warnings, each naming the deck:
-    /// `part.inp: ignored *BOUNDARY (line 36): ...`.
+    /// `part.inp: *BOUNDARY (line 36): ...`.
     pub warnings: Vec<String>,
     /// The deck's note on the routine keywords it skipped.
     pub notes: Vec<String>,

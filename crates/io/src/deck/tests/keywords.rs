@@ -151,7 +151,7 @@ fn bad_decks_name_the_line_and_the_culprit() {
             "1, 1, 2\n",
             "1, 1, 2, 3\n",
             "1, 1, 2, 3",
-            &["element 1", "3 nodes", "B31 needs 2"],
+            &["element 1", "3 nodes", "B31 needs 2", "orientation node"],
         ),
         // A section naming a material that does not exist.
         (
