@@ -3,68 +3,8 @@
 //! stage with `--verbose`; nothing with `--quiet`. A factorisation shows
 //! the percent of its work done and the time left.
 
-use flexbody::linalg::progress::{NoProgress, Progress, Stage};
+use flexbody::linalg::progress::{describe, NoProgress, Progress, Stage};
 use std::sync::Arc;
-
-/// One line describing a stage of the linear algebra, for the spinner and
-/// the `--verbose` log.
-fn describe(stage: &Stage) -> String {
-    match stage {
-        Stage::Ordering { equations } => format!("ordering {equations} equations"),
-        Stage::Analyzed {
-            factor_len,
-            flops,
-            seconds,
-        } => format!(
-            "analysed: {factor_len} entries in L, {:.1} GFlop per factorisation ({seconds:.1} s)",
-            flops * 1e-9
-        ),
-        Stage::Factorization { shift } if *shift == 0.0 => "factorising K".to_string(),
-        Stage::Factorization { shift } => {
-            format!("factorising K - sigma M, sigma = {shift:.3e}")
-        }
-        Stage::Factoring { done, flops } => format!(
-            "factorising: {:.0} % of {:.1} GFlop",
-            100.0 * done,
-            flops * 1e-9
-        ),
-        Stage::Factorized { seconds, .. } => format!("factorised ({seconds:.1} s)"),
-        Stage::Iteration {
-            step,
-            solves,
-            converged,
-            wanted,
-            basis,
-        } => format!(
-            "Lanczos step {step}: {converged} of {wanted} modes converged \
-             ({solves} solves, basis {basis})"
-        ),
-        Stage::LanczosDone {
-            solves,
-            block_solves,
-            solve_seconds,
-            products,
-            mass_seconds,
-            seconds,
-        } => format!(
-            "Lanczos done ({seconds:.1} s): {solves} solves in {block_solves} sweeps \
-             ({solve_seconds:.1} s), {products} products with M ({mass_seconds:.1} s)"
-        ),
-        Stage::SturmCheck {
-            bound,
-            count,
-            found,
-        } => {
-            format!("Sturm check: {count} eigenvalues below {bound:.3e}, {found} found")
-        }
-        Stage::DenseEigen { equations, wanted } => format!(
-            "dense eigen solve of {equations} equations ({wanted} modes, too many for Lanczos)"
-        ),
-        Stage::Solves { columns: 1 } => "solving for 1 right-hand side".to_string(),
-        Stage::Solves { columns } => format!("solving for {columns} right-hand sides"),
-        Stage::Done { seconds } => format!("eigenmodes done ({seconds:.1} s)"),
-    }
-}
 
 /// The running factorisation, for the percent and the time left of its
 /// `Factoring` reports: "factorising K - sigma M, ...: 40 %, about 150 s
