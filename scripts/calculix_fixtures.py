@@ -44,6 +44,9 @@ HEX20_EDGES = [
 ]
 # Mid-side nodes 5..10 of C3D10.
 TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+# Mid-edge nodes 7-15 of the 15-node wedge: bottom triangle, top triangle,
+# vertical edges.
+WEDGE15_EDGES = [(0, 1), (1, 2), (2, 0), (3, 4), (4, 5), (5, 3), (0, 3), (1, 4), (2, 5)]
 # Freudenthal (Kuhn) split of the unit cube into 6 tetrahedra along the
 # diagonal 0-6; the same split in every cube of a grid is conforming.
 KUHN_TETS = [
@@ -125,12 +128,15 @@ def tet_elements(mesh, quadratic):
     return elements
 
 
-def wedge_elements(mesh):
+def wedge_elements(mesh, quadratic=False):
     elements = []
     for cell in mesh.cells():
         cube = [corner(cell, o) for o in HEX_CORNERS]
         for wedge in HEX_WEDGES:
-            elements.append([mesh.node(*cube[c]) for c in wedge])
+            points = [cube[c] for c in wedge]
+            if quadratic:
+                points += [midpoint(points[a], points[b]) for a, b in WEDGE15_EDGES]
+            elements.append([mesh.node(*p) for p in points])
     return elements
 
 
@@ -152,6 +158,7 @@ FIXTURES = {
     "tet_beam": ("C3D10", (1, 1, 1), (0.2, 0.1, 0.1), lambda m: tet_elements(m, True), False, 10),
     "tet4_beam": ("C3D4", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: tet_elements(m, False), False, 10),
     "wedge_block": ("C3D6", (2, 2, 2), (0.2, 0.2, 0.2), wedge_elements, False, 10),
+    "wedge15_beam": ("C3D15", (2, 1, 1), (0.4, 0.1, 0.1), lambda m: wedge_elements(m, True), False, 12),
 }
 
 

@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 
 venv=target/python-venv
 [ -x "$venv/bin/python" ] || python3 -m venv --system-site-packages "$venv"
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check pytest numpy scipy
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check pytest numpy scipy pandas
 cargo build --quiet --bin flexbody
 MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install --quiet \
     --disable-pip-version-check --root-user-action=ignore ./python

@@ -20,10 +20,12 @@ from __future__ import annotations
 import json as _json
 import os as _os
 from dataclasses import dataclass as _dataclass
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as _np
-import scipy.sparse as _sp
+
+if TYPE_CHECKING:
+    import scipy.sparse as _sp
 
 from . import _flexbody
 from ._flexbody import Error
@@ -49,13 +51,22 @@ Sid = _flexbody.Sid
 PathLike = Union[str, "_os.PathLike[str]"]
 
 
-def _csc(parts: Tuple[_np.ndarray, _np.ndarray, _np.ndarray, int]) -> _sp.csc_array:
+def _sparse():
+    """scipy.sparse, imported on first use: reading a model and its modes
+    need no scipy, and importing it takes a quarter of a second."""
+    import scipy.sparse
+
+    return scipy.sparse
+
+
+def _csc(parts: Tuple[_np.ndarray, _np.ndarray, _np.ndarray, int]) -> "_sp.csc_array":
     indptr, indices, data, n = parts
-    return _sp.csc_array((data, indices, indptr), shape=(n, n), copy=False)
+    return _sparse().csc_array((data, indices, indptr), shape=(n, n), copy=False)
 
 
 def _csc_parts(name: str, a: Any) -> Tuple[Tuple[_np.ndarray, _np.ndarray, _np.ndarray], Tuple[int, int]]:
     """A matrix (scipy.sparse or dense) as CSC arrays with int64 indices."""
+    _sp = _sparse()
     if _sp.issparse(a):
         a = _sp.csc_array(a)
     else:

@@ -82,3 +82,47 @@ def test_model_arrays_describe_the_deck():
     assert mass > 0
     dofs, source = model.default_interface
     assert len(dofs) > 0 and "interface" in source
+
+
+def test_damping_given_with_the_matrices_is_reduced_with_them():
+    model = flexbody.read(PY_EXAMPLES / "pendulum_arm.inp")
+    K, M = model.K, model.M
+    D = 2.0 * M + 1e-5 * K
+    ids, xyz = model.node_ids, model.coords
+    damped = flexbody.Model.from_matrices(K, M, model.dofs, coords=(ids, xyz), D=D)
+    assert abs(damped.D - D).max() <= 1e-15 * abs(D).max()
+    body = damped.reduce("craig-bampton", interface="1,21", modes=4)
+    T = body.basis
+    np.testing.assert_allclose(body.damping, T.T @ (D @ T), atol=1e-12 * np.abs(body.damping).max())
+    assert body.invariants()["de"] is not None
+    # Without damping there is none.
+    assert model.D is None and model.reduce("guyan", interface="1").damping is None
+
+
+def test_stress_recovery_of_a_free_solid_body_is_zero_on_its_rigid_modes():
+    model = flexbody.read(EXAMPLES / "side_beam_solid.toml")
+    body = model.reduce("free-residual", modes=2)
+    R = body.recovery()
+    assert R.shape[1] == body.r and R.shape[0] % 6 == 0 and R.shape[0] > 0
+    rigid = [i for i, kind in enumerate(body.mode_kinds) if kind.startswith("rigid")]
+    assert len(rigid) == 6
+    # Rigid-body motion strains nothing.
+    assert np.abs(R[:, rigid]).max() <= 1e-9 * np.abs(R).max()
+
+
+def test_an_mbdyn_file_is_written_but_not_read(arm, tmp_path):
+    _, body = arm
+    path = tmp_path / "arm.fem"
+    body.write(path, format="mbdyn")
+    assert path.read_text().lstrip().startswith("**")
+    with pytest.raises(flexbody.Error, match="MBDyn's modal FEM file, which flexbody writes"):
+        flexbody.load(path)
+
+
+def test_the_study_becomes_a_dataframe():
+    pandas = pytest.importorskip("pandas")
+    result = flexbody.read(EXAMPLES / "side_beam.toml").study()
+    frame = result.to_dataframe()
+    assert isinstance(frame, pandas.DataFrame)
+    assert len(frame) == len(result.records)
+    assert list(frame["method"]) == [r["method"] for r in result.records]

@@ -36,6 +36,15 @@ def test_modes_equal_the_cli(cli, path):
     np.testing.assert_allclose(phi.T @ (K @ phi), np.diag(ours.eigenvalues), atol=1e-9 * ours.eigenvalues[-1])
 
 
+def test_modes_below_a_frequency_equal_the_cli(cli):
+    path = EXAMPLES / "side_beam_solid.toml"
+    ours = flexbody.read(path).modes(fmax=400.0)
+    theirs = cli.json("modes", path, "--fmax", 400, "--json")
+    assert len(ours.frequencies_hz) == len(theirs["frequencies_hz"]) > 6
+    assert ours.frequencies_hz.max() < 400.0
+    np.testing.assert_allclose(ours.frequencies_hz[6:], theirs["frequencies_hz"][6:], rtol=1e-12)
+
+
 @pytest.mark.parametrize("path, interface, method, modes", REDUCTIONS, ids=lambda v: getattr(v, "name", str(v)))
 def test_bodies_equal_the_cli_byte_for_byte(cli, tmp_path, path, interface, method, modes):
     body = flexbody.read(path).reduce(method, interface=interface, modes=modes)

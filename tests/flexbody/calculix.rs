@@ -35,7 +35,7 @@ struct Fixture {
     rigid_modes: usize,
 }
 
-static FIXTURES: [Fixture; 6] = [
+static FIXTURES: [Fixture; 7] = [
     Fixture {
         name: "hex_beam",
         element: SolidKind::C3D8,
@@ -66,6 +66,11 @@ static FIXTURES: [Fixture; 6] = [
         element: SolidKind::C3D6,
         rigid_modes: 6,
     },
+    Fixture {
+        name: "wedge15_beam",
+        element: SolidKind::C3D15,
+        rigid_modes: 6,
+    },
 ];
 
 /// Entry-wise agreement of K and M with CalculiX's:
@@ -73,7 +78,7 @@ static FIXTURES: [Fixture; 6] = [
 ///
 /// CalculiX writes 14 significant digits (`%.13e`, a rounding of up to
 /// 5e-14 of the entry) of values with its own round-off. Measured over the
-/// six fixtures, K and M: `|a - b| / |b|` at most 4.4e-14 on the entries
+/// seven fixtures, K and M: `|a - b| / |b|` at most 4.5e-14 on the entries
 /// above the floor (`MATRIX_RTOL |b| > MATRIX_ATOL sqrt(b_ii b_jj)`);
 /// `|a - b| / sqrt(b_ii b_jj)` at most 5.9e-15 on those below it (small
 /// entries from cancellation, zeros in one program and round-off in the
@@ -355,4 +360,9 @@ fn c3d4_tet4_beam_matches_calculix() {
 #[test]
 fn c3d6_wedge_block_matches_calculix() {
     cross_check("wedge_block");
+}
+
+#[test]
+fn c3d15_wedge15_beam_matches_calculix() {
+    cross_check("wedge15_beam");
 }

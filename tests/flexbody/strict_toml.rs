@@ -567,7 +567,8 @@ fn the_cli_refuses_a_misspelt_key_with_exit_code_2_and_writes_nothing() {
     }
 }
 
-/// Every `.toml` file under `dir` but Cargo's and tool configurations.
+/// Every `.toml` file under `dir` but Cargo's, Python packaging's
+/// (`pyproject.toml`) and tool configurations.
 fn model_files(dir: &Path, found: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
@@ -583,6 +584,7 @@ fn model_files(dir: &Path, found: &mut Vec<PathBuf>) {
                 "clippy.toml",
                 "deny.toml",
                 "rust-toolchain.toml",
+                "pyproject.toml",
             ]
             .contains(&name.as_str())
         {

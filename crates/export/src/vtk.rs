@@ -3,12 +3,13 @@
 //! the eigenmodes of the reduced body and their stresses as point data.
 //!
 //! Cells: each element's own ([`Element::vtk_cell`]): solids as VTK
-//! hexahedra (C3D8: 12), quadratic hexahedra (C3D20, C3D20R: 25),
-//! tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24) and wedges
-//! (C3D6: 13); beams and two-node springs as lines (3); point masses and
-//! grounded springs as vertices (1). The Abaqus node order is VTK's for
-//! all kinds except the wedge, whose triangles VTK orders the other way
-//! round (`[0, 2, 1, 3, 5, 4]`).
+//! hexahedra (C3D8, C3D8I: 12), quadratic hexahedra (C3D20, C3D20R: 25),
+//! tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24), wedges (C3D6:
+//! 13) and quadratic wedges (C3D15: 26); beams and two-node springs as
+//! lines (3); point masses and grounded springs as vertices (1). The Abaqus
+//! node order is VTK's for all kinds except the wedges, whose triangles VTK
+//! orders the other way round (`[0, 2, 1, 3, 5, 4]`, and the mid-edge
+//! nodes with them).
 //!
 //! Point data, for each eigenmode `k` of the reduced body (`K_red x = w^2
 //! M_red x`, shape `T x`, M-normalised): `mode kk` (displacement vector, m

@@ -5,7 +5,7 @@
 //! elements; and one element of every registered type, for tests that
 //! must cover them all.
 
-use crate::element::solid::topology::{hex_cell, HEX20_EDGES, TET10_EDGES};
+use crate::element::solid::topology::{hex_cell, HEX20_EDGES, TET10_EDGES, WEDGE15_EDGES};
 use crate::element::{element_types, ElementType, SectionKind, SectionValues};
 use crate::element::{Beam, PlanarBeam, Solid, SolidKind};
 use crate::{BeamProperties, Dof, Element, FemError, Material, Model, Node, NodeId};
@@ -77,7 +77,7 @@ impl BrickBlock {
 
 /// A block of `cells[0] x cells[1] x cells[2]` hexahedral cells over
 /// `size` (m) from `origin`, each cell one element of `kind` (C3D8, C3D20,
-/// C3D20R), two wedges (C3D6) or six tetrahedra (C3D4, C3D10: the Kuhn
+/// C3D20R), two wedges (C3D6, C3D15) or six tetrahedra (C3D4, C3D10: the Kuhn
 /// subdivision along the cell's diagonal from its corner at the lowest x,
 /// y, z to the opposite one, conforming), its interior nodes moved at
 /// random. Zero distortions give a regular mesh.
@@ -149,7 +149,7 @@ impl SolidBlock {
                     let v = |b: usize| grid([i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2)]);
                     let hex = hex_cell(i, j, k, grid);
                     match self.kind {
-                        SolidKind::C3D8 => mesh.elements.push(hex),
+                        SolidKind::C3D8 | SolidKind::C3D8I => mesh.elements.push(hex),
                         SolidKind::C3D20 | SolidKind::C3D20R => {
                             let mut e = hex.clone();
                             for (a, b) in HEX20_EDGES {
@@ -176,9 +176,21 @@ impl SolidBlock {
                                 mesh.elements.push(t);
                             }
                         }
-                        SolidKind::C3D6 => {
-                            mesh.elements.push(vec![v(0), v(1), v(3), v(4), v(5), v(7)]);
-                            mesh.elements.push(vec![v(0), v(3), v(2), v(4), v(7), v(6)]);
+                        SolidKind::C3D6 | SolidKind::C3D15 => {
+                            for wedge in [
+                                vec![v(0), v(1), v(3), v(4), v(5), v(7)],
+                                vec![v(0), v(3), v(2), v(4), v(7), v(6)],
+                            ] {
+                                let mut e = wedge.clone();
+                                if self.kind == SolidKind::C3D15 {
+                                    for (a, b) in WEDGE15_EDGES {
+                                        e.push(
+                                            self.mid_node(&mut mesh, wedge[a], wedge[b], &mut rng),
+                                        );
+                                    }
+                                }
+                                mesh.elements.push(e);
+                            }
                         }
                     }
                 }

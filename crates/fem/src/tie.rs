@@ -52,12 +52,20 @@ pub fn solid_face(kind: SolidKind, face: usize) -> Option<&'static [usize]> {
         &[1, 4, 5, 2],
         &[2, 5, 3, 0],
     ];
+    const WEDGE15: [&[usize]; 5] = [
+        &[0, 1, 2, 6, 7, 8],
+        &[3, 5, 4, 11, 10, 9],
+        &[0, 3, 4, 1, 12, 9, 13, 6],
+        &[1, 4, 5, 2, 13, 10, 14, 7],
+        &[2, 5, 3, 0, 14, 11, 12, 8],
+    ];
     let table: &[&'static [usize]] = match kind {
-        SolidKind::C3D8 => &HEX,
+        SolidKind::C3D8 | SolidKind::C3D8I => &HEX,
         SolidKind::C3D20 | SolidKind::C3D20R => &HEX20,
         SolidKind::C3D4 => &TET,
         SolidKind::C3D10 => &TET10,
         SolidKind::C3D6 => &WEDGE,
+        SolidKind::C3D15 => &WEDGE15,
     };
     face.checked_sub(1).and_then(|f| table.get(f).copied())
 }

@@ -83,7 +83,7 @@ element_kinds! {
     Dashpot(Dashpot),
     /// Viscous dashpot along the line between two nodes (DASHPOTA).
     AxialDashpot(AxialDashpot),
-    /// Solid element (C3D8, C3D20, C3D20R, C3D10, C3D4, C3D6).
+    /// Solid element (C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15).
     Solid(Solid),
 }
 

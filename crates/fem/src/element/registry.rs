@@ -69,8 +69,8 @@ const MODIFIED_TET: &str = "modified tetrahedron (M): Abaqus' own shape function
     differ at the discretisation level";
 
 /// The names meshers write that flexbody reads as one of its types.
-/// Hybrid and modified names of types flexbody lacks (C3D8RH, C3D15H) are
-/// not here: they are refused like their base types.
+/// Hybrid names of types flexbody lacks (C3D8RH) are not here: they are
+/// refused like their base types.
 pub const ELEMENT_ALIASES: &[ElementAlias] = &[
     ElementAlias {
         name: "C3D4H",
@@ -88,8 +88,18 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
         meaning: HYBRID,
     },
     ElementAlias {
+        name: "C3D8IH",
+        reads_as: "C3D8I",
+        meaning: HYBRID,
+    },
+    ElementAlias {
         name: "C3D10H",
         reads_as: "C3D10",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D15H",
+        reads_as: "C3D15",
         meaning: HYBRID,
     },
     ElementAlias {

@@ -50,11 +50,7 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
 /// Why an element type is refused, for the types users are likely to have.
 fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
-        "C3D8I" | "C3D8IH" => {
-            " (incompatible modes are not implemented; use C3D8, or C3D20/C3D20R for bending)"
-        }
         "C3D8R" | "C3D8RH" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
-        "C3D15" | "C3D15H" => " (use C3D6 or C3D20)",
         "B32" | "B32R" | "B31R" => " (use B31)",
         _ if t.starts_with('S') || t.starts_with('M') => {
             " (shells and membranes are not implemented)"

@@ -6,11 +6,13 @@
 //! | kind | nodes | stiffness rule | mass rule | stresses from |
 //! | --- | --- | --- | --- | --- |
 //! | C3D8 | 8 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
+//! | C3D8I | 8 | 2x2x2 Gauss, 9 incompatible modes condensed | 2x2x2 Gauss (trilinear) | 2x2x2 points, with the incompatible modes |
 //! | C3D20 | 20 | 3x3x3 Gauss | 3x3x3 Gauss | 3x3x3 points, triquadratic extrapolation |
 //! | C3D20R | 20 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
 //! | C3D10 | 10 | 4-point | 4-point | 4 points, linear extrapolation |
 //! | C3D4 | 4 | 1-point | 1-point | the centroid (constant) |
 //! | C3D6 | 6 | 2-point | 2-point | 2 points, linear in `zeta` |
+//! | C3D15 | 15 | 9-point | 9-point | 9 points, linear in the triangle, quadratic in `zeta` |
 //!
 //! CalculiX (`e_c3d.f`) integrates stiffness and mass in the same loop over
 //! the same points (`mint3d`): the mass rule is the stiffness rule for every
@@ -21,6 +23,27 @@
 //! `intscheme = 0`. CalculiX's C3D8 is the plain fully integrated trilinear
 //! hexahedron (`shape8h.f`; incompatible modes are the separate C3D8I).
 //! The rules are listed in `quadrature.rs`.
+//!
+//! C3D8I adds the incompatible modes of Wilson, Taylor, Beresford:
+//! displacements `u = sum_a N_a u_a + sum_k (1 - xi_k^2) alpha_k` with three
+//! vectors `alpha_k` per element, their gradients taken through the
+//! Jacobian at the element's centre `J_0` and scaled by `det J_0 / det J`,
+//! so that they integrate to zero over the element and any element passes
+//! the constant-strain patch test; 2x2x2 points. flexbody condenses the
+//! nine `alpha` DOFs statically in the element, `K = K_uu - K_ua K_aa^-1
+//! K_au`, and keeps the trilinear consistent mass of C3D8 (the modes are
+//! massless).
+//!
+//! CalculiX 2.20 (`e_c3d.f`) builds the same modes without the scaling
+//! (measured against its matrices: 1e-15 of the largest entry), keeps the
+//! nine DOFs as three extra nodes per element and gives them a consistent
+//! mass. On a parallelepiped (`det J` constant) the stiffness is the same:
+//! flexbody's element K is the Schur complement of CalculiX's to
+//! round-off. On a distorted element CalculiX's modes no longer integrate
+//! to zero, its element fails the patch test, and its K differs from
+//! flexbody's (0.5 % of the largest entry on an element distorted by 15 %);
+//! and the mass it gives the modes moves frequencies (3 % for the first
+//! bending mode of a free beam six elements long).
 //!
 //! Stiffness: `K_ab = sum_p w_p det J_p [lambda g_a g_b^T + mu (g_b g_a^T +
 //! (g_a . g_b) I)]` with `g_a = grad N_a` at point `p`, the Lame constants
@@ -59,6 +82,7 @@ use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
+use faer::linalg::solvers::Solve;
 use faer::Mat;
 use quadrature::Rule;
 use shape::MAX_NODES;
@@ -75,6 +99,8 @@ const ZERO_VOLUME: f64 = 1e-12;
 pub enum SolidKind {
     /// 8-node trilinear hexahedron, full (2x2x2) integration.
     C3D8,
+    /// 8-node hexahedron with incompatible (bubble) modes, condensed.
+    C3D8I,
     /// 20-node serendipity hexahedron, full (3x3x3) integration.
     C3D20,
     /// 20-node serendipity hexahedron, reduced (2x2x2) integration.
@@ -85,27 +111,32 @@ pub enum SolidKind {
     C3D4,
     /// 6-node linear wedge (pentahedron), 2-point integration.
     C3D6,
+    /// 15-node serendipity wedge, 9-point integration.
+    C3D15,
 }
 
 impl SolidKind {
     /// All kinds.
-    pub const ALL: [SolidKind; 6] = [
+    pub const ALL: [SolidKind; 8] = [
         SolidKind::C3D8,
+        SolidKind::C3D8I,
         SolidKind::C3D20,
         SolidKind::C3D20R,
         SolidKind::C3D10,
         SolidKind::C3D4,
         SolidKind::C3D6,
+        SolidKind::C3D15,
     ];
 
     /// Number of nodes.
     pub const fn node_count(self) -> usize {
         match self {
-            SolidKind::C3D8 => 8,
+            SolidKind::C3D8 | SolidKind::C3D8I => 8,
             SolidKind::C3D20 | SolidKind::C3D20R => 20,
             SolidKind::C3D10 => 10,
             SolidKind::C3D4 => 4,
             SolidKind::C3D6 => 6,
+            SolidKind::C3D15 => 15,
         }
     }
 
@@ -113,11 +144,13 @@ impl SolidKind {
     pub const fn name(self) -> &'static str {
         match self {
             SolidKind::C3D8 => "C3D8",
+            SolidKind::C3D8I => "C3D8I",
             SolidKind::C3D20 => "C3D20",
             SolidKind::C3D20R => "C3D20R",
             SolidKind::C3D10 => "C3D10",
             SolidKind::C3D4 => "C3D4",
             SolidKind::C3D6 => "C3D6",
+            SolidKind::C3D15 => "C3D15",
         }
     }
 
@@ -130,17 +163,21 @@ impl SolidKind {
 
     /// The VTK cell: hexahedron (12), quadratic hexahedron (25),
     /// tetrahedron (10), quadratic tetrahedron (24) in the Abaqus node
-    /// order, which is VTK's; the wedge (13) with its triangles turned the
-    /// other way round, as VTK orders them.
+    /// order, which is VTK's; the wedge (13) and the quadratic wedge (26)
+    /// with their triangles turned the other way round, as VTK orders them.
     pub const fn vtk_cell(self) -> VtkCell {
         match self {
-            SolidKind::C3D8 => VtkCell::in_order(12, 8),
+            SolidKind::C3D8 | SolidKind::C3D8I => VtkCell::in_order(12, 8),
             SolidKind::C3D20 | SolidKind::C3D20R => VtkCell::in_order(25, 20),
             SolidKind::C3D4 => VtkCell::in_order(10, 4),
             SolidKind::C3D10 => VtkCell::in_order(24, 10),
             SolidKind::C3D6 => VtkCell {
                 cell_type: 13,
                 order: &[0, 2, 1, 3, 5, 4],
+            },
+            SolidKind::C3D15 => VtkCell {
+                cell_type: 26,
+                order: &[0, 2, 1, 3, 5, 4, 8, 7, 6, 11, 10, 9, 12, 14, 13],
             },
         }
     }
@@ -180,17 +217,27 @@ impl SolidKind {
     /// The stiffness rule (CalculiX `mint3d` with `intscheme = 0`).
     fn stiffness_rule(self) -> Rule {
         match self {
-            SolidKind::C3D8 | SolidKind::C3D20R => Rule::Hex2,
+            SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D20R => Rule::Hex2,
             SolidKind::C3D20 => Rule::Hex3,
             SolidKind::C3D10 => Rule::Tet4,
             SolidKind::C3D4 => Rule::Tet1,
             SolidKind::C3D6 => Rule::Wedge2,
+            SolidKind::C3D15 => Rule::Wedge9,
         }
     }
 
     /// The mass rule: CalculiX's mass loop is its stiffness loop.
     fn mass_rule(self) -> Rule {
         self.stiffness_rule()
+    }
+
+    /// Number of incompatible modes, each a vector of three DOFs internal
+    /// to the element (C3D8I: 3).
+    const fn incompatible_modes(self) -> usize {
+        match self {
+            SolidKind::C3D8I => 3,
+            _ => 0,
+        }
     }
 
     /// A rule that integrates `det J` exactly (for [`Solid::volume`]).
@@ -209,11 +256,13 @@ type BuildFn = fn(usize, &[NodeId], &SectionValues) -> Result<Element, FemError>
 /// [`SolidKind::ALL`].
 pub(super) const ELEMENT_TYPES: &[ElementType] = &[
     SolidKind::C3D8.element_type(|id, nodes, s| SolidKind::C3D8.build(id, nodes, s)),
+    SolidKind::C3D8I.element_type(|id, nodes, s| SolidKind::C3D8I.build(id, nodes, s)),
     SolidKind::C3D20.element_type(|id, nodes, s| SolidKind::C3D20.build(id, nodes, s)),
     SolidKind::C3D20R.element_type(|id, nodes, s| SolidKind::C3D20R.build(id, nodes, s)),
     SolidKind::C3D10.element_type(|id, nodes, s| SolidKind::C3D10.build(id, nodes, s)),
     SolidKind::C3D4.element_type(|id, nodes, s| SolidKind::C3D4.build(id, nodes, s)),
     SolidKind::C3D6.element_type(|id, nodes, s| SolidKind::C3D6.build(id, nodes, s)),
+    SolidKind::C3D15.element_type(|id, nodes, s| SolidKind::C3D15.build(id, nodes, s)),
 ];
 
 /// A solid element.
@@ -341,48 +390,13 @@ impl Solid {
         let geometry = self.checked_geometry(coords)?;
         let nn = self.kind.node_count();
         let nd = 3 * nn;
-        let (lambda, mu) = self.lame();
-        let anisotropy = self.material.anisotropy.as_deref();
-        let rho = self.material.density;
-        // Upper triangles, row-major: K over all DOFs, M per node pair (the
-        // same for each direction).
-        let mut k = vec![0.0; nd * nd];
-        let mut m = vec![0.0; nn * nn];
-        let stiffness_rule = self.kind.stiffness_rule();
-        let mass_rule = self.kind.mass_rule();
-        for (xi, w) in stiffness_rule.points().iter().zip(stiffness_rule.weights()) {
-            let point = geometry.point(*xi);
-            let wd = w * point.det_j;
-            match anisotropy {
-                None => add_stiffness(&mut k, nn, &point.grad, lambda * wd, mu * wd),
-                Some(a) => {
-                    let c = a
-                        .global_at(geometry.global(&point))
-                        .map_err(|e| self.invalid(e.to_string()))?;
-                    add_stiffness_general(&mut k, nn, &point.grad, &c, wd);
-                }
-            }
-            if mass_rule == stiffness_rule {
-                add_mass(&mut m, nn, &point.n, rho * wd);
-            }
-        }
-        if mass_rule != stiffness_rule {
-            for (xi, w) in mass_rule.points().iter().zip(mass_rule.weights()) {
-                let point = geometry.point(*xi);
-                add_mass(&mut m, nn, &point.n, rho * w * point.det_j);
-            }
-        }
-        let stiffness = Mat::from_fn(
-            nd,
-            nd,
-            |r, c| {
-                if r <= c {
-                    k[r * nd + c]
-                } else {
-                    k[c * nd + r]
-                }
-            },
-        );
+        let (k, m) = self.integrate(&geometry, true)?;
+        let stiffness = match self.kind.incompatible_modes() {
+            0 => k,
+            _ => condensed(&k, nd).ok_or_else(|| {
+                self.invalid("its incompatible modes have a singular stiffness".into())
+            })?,
+        };
         let mass = Mat::from_fn(nd, nd, |r, c| {
             if r % 3 != c % 3 {
                 0.0
@@ -397,6 +411,93 @@ impl Solid {
             mass,
             damping: None,
         })
+    }
+
+    /// The stiffness over the nodes' DOFs and then the incompatible modes'
+    /// (C3D8I), symmetric, `3 (n + modes)` square; with `mass`, the mass
+    /// per node pair (the same for each direction), upper triangle,
+    /// row-major, `n` square (else empty).
+    fn integrate(&self, geometry: &Geometry, mass: bool) -> Result<(Mat<f64>, Vec<f64>), FemError> {
+        let nn = self.kind.node_count();
+        let nk = nn + self.kind.incompatible_modes();
+        let ndk = 3 * nk;
+        let (lambda, mu) = self.lame();
+        let anisotropy = self.material.anisotropy.as_deref();
+        let rho = self.material.density;
+        // Upper triangles, row-major.
+        let mut k = vec![0.0; ndk * ndk];
+        let mut m = vec![0.0; if mass { nn * nn } else { 0 }];
+        let stiffness_rule = self.kind.stiffness_rule();
+        let mass_rule = self.kind.mass_rule();
+        for (xi, w) in stiffness_rule.points().iter().zip(stiffness_rule.weights()) {
+            let point = self.point_with_incompatible_modes(geometry, *xi);
+            let wd = w * point.det_j;
+            match anisotropy {
+                None => add_stiffness(&mut k, nk, &point.grad, lambda * wd, mu * wd),
+                Some(a) => {
+                    let c = a
+                        .global_at(geometry.global(&point))
+                        .map_err(|e| self.invalid(e.to_string()))?;
+                    add_stiffness_general(&mut k, nk, &point.grad, &c, wd);
+                }
+            }
+            if mass && mass_rule == stiffness_rule {
+                add_mass(&mut m, nn, &point.n, rho * wd);
+            }
+        }
+        if mass && mass_rule != stiffness_rule {
+            for (xi, w) in mass_rule.points().iter().zip(mass_rule.weights()) {
+                let point = geometry.point(*xi);
+                add_mass(&mut m, nn, &point.n, rho * w * point.det_j);
+            }
+        }
+        let k = Mat::from_fn(ndk, ndk, |r, c| {
+            if r <= c {
+                k[r * ndk + c]
+            } else {
+                k[c * ndk + r]
+            }
+        });
+        Ok((k, m))
+    }
+
+    /// [`Geometry::point`], with the gradients of the incompatible modes
+    /// `1 - xi_k^2` after the nodes' (C3D8I): through the Jacobian at the
+    /// element's centre, scaled by `det J_0 / det J` (Taylor, Beresford and
+    /// Wilson), so that they integrate to zero over any element and a
+    /// constant strain excites none of them.
+    fn point_with_incompatible_modes(&self, geometry: &Geometry, xi: [f64; 3]) -> PointValues {
+        let mut point = geometry.point(xi);
+        let modes = self.kind.incompatible_modes();
+        if modes > 0 {
+            let (inv0, det0) = geometry.inverse_jacobian([0.0; 3]);
+            let scale = det0 / point.det_j;
+            let nn = self.kind.node_count();
+            for k in 0..modes {
+                // d(1 - xi_k^2)/dxi_l = -2 xi_k delta_kl.
+                let d = -2.0 * xi[k] * scale;
+                point.grad[nn + k] = inv0[k].map(|v| d * v);
+            }
+        }
+        point
+    }
+
+    /// The map from the nodes' displacements to the incompatible modes'
+    /// amplitudes that minimise the energy, `alpha = -K_aa^-1 K_au u`
+    /// (`3 modes x 3 n`), or `None` for an element without them.
+    fn incompatible_amplitudes(&self, geometry: &Geometry) -> Result<Option<Mat<f64>>, FemError> {
+        if self.kind.incompatible_modes() == 0 {
+            return Ok(None);
+        }
+        let (k, _) = self.integrate(geometry, false)?;
+        let nd = 3 * self.kind.node_count();
+        let ne = k.nrows() - nd;
+        let kaa = k.as_ref().submatrix(nd, nd, ne, ne).to_owned();
+        let kau = k.as_ref().submatrix(nd, 0, ne, nd).to_owned();
+        let llt = kaa
+            .llt(faer::Side::Lower)
+            .map_err(|_| self.invalid("its incompatible modes have a singular stiffness".into()))?;
+        Ok(Some(-llt.solve(&kau)))
     }
 
     /// Stresses at the element's nodes (Pa, Voigt order) from the element
@@ -438,7 +539,14 @@ impl Solid {
         }
         let (lambda, mu) = self.lame();
         let rule = self.kind.stiffness_rule();
-        let points: Vec<_> = rule.points().iter().map(|xi| geometry.point(*xi)).collect();
+        let points: Vec<_> = rule
+            .points()
+            .iter()
+            .map(|xi| self.point_with_incompatible_modes(&geometry, *xi))
+            .collect();
+        let amplitudes = self.incompatible_amplitudes(&geometry)?;
+        let nk = nn + self.kind.incompatible_modes();
+        let mut extended = vec![0.0; 3 * nk];
         let elasticity: Vec<Option<Voigt>> = match self.material.anisotropy.as_deref() {
             None => vec![None; points.len()],
             Some(a) => points
@@ -459,8 +567,16 @@ impl Solid {
         let mut out = Vec::with_capacity(nn * columns);
         let mut at_points = [[0.0; 6]; MAX_POINTS];
         for u in u_e.chunks_exact(3 * nn) {
+            // The nodes' displacements, then the incompatible modes'
+            // amplitudes they imply.
+            extended[..3 * nn].copy_from_slice(u);
+            if let Some(r) = &amplitudes {
+                for (i, e) in extended[3 * nn..].iter_mut().enumerate() {
+                    *e = (0..3 * nn).map(|j| r[(i, j)] * u[j]).sum();
+                }
+            }
             for ((s, point), c) in at_points.iter_mut().zip(&points).zip(&elasticity) {
-                let e = strain(&point.grad[..nn], u);
+                let e = strain(&point.grad[..nk], &extended);
                 *s = match c {
                     None => stress(&e, lambda, mu),
                     Some(c) => std::array::from_fn(|i| (0..6).map(|j| c[i][j] * e[j]).sum()),
@@ -612,28 +728,18 @@ impl Geometry {
         det3(&self.jacobian(xi).2)
     }
 
+    /// The inverse Jacobian at `xi`, `inv[l][m] = dxi_l / dx_m`, and
+    /// `det J` there.
+    fn inverse_jacobian(&self, xi: [f64; 3]) -> ([[f64; 3]; 3], f64) {
+        let j = self.jacobian(xi).2;
+        (inverse(&j), det3(&j))
+    }
+
     /// Everything at `xi`; the element must have been validated (`det J > 0`).
     fn point(&self, xi: [f64; 3]) -> PointValues {
         let (n, dn, j) = self.jacobian(xi);
         let det_j = det3(&j);
-        // Inverse of J from its cofactors: inv[l][m] = dxi_l / dx_m.
-        let inv = [
-            [
-                (j[1][1] * j[2][2] - j[2][1] * j[1][2]) / det_j,
-                (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det_j,
-                (j[0][1] * j[1][2] - j[1][1] * j[0][2]) / det_j,
-            ],
-            [
-                (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det_j,
-                (j[0][0] * j[2][2] - j[2][0] * j[0][2]) / det_j,
-                (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det_j,
-            ],
-            [
-                (j[1][0] * j[2][1] - j[2][0] * j[1][1]) / det_j,
-                (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det_j,
-                (j[0][0] * j[1][1] - j[1][0] * j[0][1]) / det_j,
-            ],
-        ];
+        let inv = inverse(&j);
         let mut grad = [[0.0; 3]; MAX_NODES];
         for (g, d) in grad.iter_mut().zip(&dn).take(self.kind.node_count()) {
             for (m, gm) in g.iter_mut().enumerate() {
@@ -642,6 +748,28 @@ impl Geometry {
         }
         PointValues { n, grad, det_j }
     }
+}
+
+/// The inverse of `j` from its cofactors.
+fn inverse(j: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let det_j = det3(j);
+    [
+        [
+            (j[1][1] * j[2][2] - j[2][1] * j[1][2]) / det_j,
+            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det_j,
+            (j[0][1] * j[1][2] - j[1][1] * j[0][2]) / det_j,
+        ],
+        [
+            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det_j,
+            (j[0][0] * j[2][2] - j[2][0] * j[0][2]) / det_j,
+            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det_j,
+        ],
+        [
+            (j[1][0] * j[2][1] - j[2][0] * j[1][1]) / det_j,
+            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det_j,
+            (j[0][0] * j[1][1] - j[1][0] * j[0][1]) / det_j,
+        ],
+    ]
 }
 
 fn det3(j: &[[f64; 3]; 3]) -> f64 {
@@ -709,6 +837,28 @@ fn add_stiffness_general(
             }
         }
     }
+}
+
+/// `K_uu - K_ua K_aa^-1 K_au` of `k` split after its first `nd` rows and
+/// columns (the nodes' DOFs), symmetric; `None` if `K_aa` is not positive
+/// definite.
+fn condensed(k: &Mat<f64>, nd: usize) -> Option<Mat<f64>> {
+    let ne = k.nrows() - nd;
+    let kaa = k.as_ref().submatrix(nd, nd, ne, ne).to_owned();
+    let kau = k.as_ref().submatrix(nd, 0, ne, nd).to_owned();
+    let x = kaa.llt(faer::Side::Lower).ok()?.solve(&kau);
+    let kuu = k.as_ref().submatrix(0, 0, nd, nd);
+    let mut out = Mat::from_fn(nd, nd, |r, c| kuu[(r, c)]);
+    out -= kau.transpose() * &x;
+    // Exactly symmetric, as the other elements' matrices are.
+    for c in 0..nd {
+        for r in 0..c {
+            let v = 0.5 * (out[(r, c)] + out[(c, r)]);
+            out[(r, c)] = v;
+            out[(c, r)] = v;
+        }
+    }
+    Some(out)
 }
 
 /// Adds one point's scalar mass `rw N_a N_b` to the upper triangle of `m`

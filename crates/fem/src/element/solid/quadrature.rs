@@ -10,6 +10,7 @@
 //! | [`Rule::Tet1`] | `gauss3d4` | `(1/4, 1/4, 1/4)` | 1/6 |
 //! | [`Rule::Tet4`] | `gauss3d5` | `(a,a,a), (b,a,a), (a,b,a), (a,a,b)`, `a = (5-√5)/20`, `b = (5+3√5)/20` | 1/24 |
 //! | [`Rule::Wedge2`] | `gauss3d7` | `(1/3, 1/3, ∓1/√3)` | 1/2 |
+//! | [`Rule::Wedge9`] | `gauss3d8` | `(1/6, 1/6), (2/3, 1/6), (1/6, 2/3)` times `zeta` in `{-√0.6, 0, √0.6}`, triangle fastest | 1/6 times 5/9, 8/9 |
 //!
 //! CalculiX writes its constants with 15 significant digits; the values
 //! here are the exact ones rounded to `f64`, which differ by a few units in
@@ -38,6 +39,8 @@ pub(super) enum Rule {
     /// Triangle centroid times 2-point Gauss in `zeta`, over the wedge
     /// `xi, eta >= 0, xi + eta <= 1, -1 <= zeta <= 1`.
     Wedge2,
+    /// 3-point triangle rule (degree 2) times 3-point Gauss in `zeta`.
+    Wedge9,
 }
 
 const HEX2_POINTS: [[f64; 3]; 8] = tensor_points([-G2, G2]);
@@ -55,6 +58,36 @@ const TET4_POINTS: [[f64; 3]; 4] = [
 const TET4_WEIGHTS: [f64; 4] = [1.0 / 24.0; 4];
 const WEDGE2_POINTS: [[f64; 3]; 2] = [[1.0 / 3.0, 1.0 / 3.0, -G2], [1.0 / 3.0, 1.0 / 3.0, G2]];
 const WEDGE2_WEIGHTS: [f64; 2] = [0.5, 0.5];
+/// The 3-point triangle rule's points: `t_k = 2/3` at point `k`, `1/6`
+/// at the others (`t = (1 - xi - eta, xi, eta)`).
+const TRI3: [[f64; 2]; 3] = [
+    [1.0 / 6.0, 1.0 / 6.0],
+    [2.0 / 3.0, 1.0 / 6.0],
+    [1.0 / 6.0, 2.0 / 3.0],
+];
+const WEDGE9_POINTS: [[f64; 3]; 9] = wedge_points([-G3, 0.0, G3]);
+const WEDGE9_WEIGHTS: [f64; 9] = {
+    let w = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+    let mut out = [0.0; 9];
+    let mut p = 0;
+    while p < 9 {
+        out[p] = w[p / 3] / 6.0;
+        p += 1;
+    }
+    out
+};
+
+/// The triangle points of [`TRI3`] at each `zeta` of `z`, the triangle
+/// running fastest.
+const fn wedge_points(z: [f64; 3]) -> [[f64; 3]; 9] {
+    let mut out = [[0.0; 3]; 9];
+    let mut p = 0;
+    while p < 9 {
+        out[p] = [TRI3[p % 3][0], TRI3[p % 3][1], z[p / 3]];
+        p += 1;
+    }
+    out
+}
 
 /// Tensor-product points of a 1D rule, x running fastest (CalculiX order).
 const fn tensor_points<const N: usize, const M: usize>(x: [f64; N]) -> [[f64; 3]; M] {
@@ -87,6 +120,7 @@ impl Rule {
             Rule::Tet1 => &TET1_POINTS,
             Rule::Tet4 => &TET4_POINTS,
             Rule::Wedge2 => &WEDGE2_POINTS,
+            Rule::Wedge9 => &WEDGE9_POINTS,
         }
     }
 
@@ -98,6 +132,7 @@ impl Rule {
             Rule::Tet1 => &TET1_WEIGHTS,
             Rule::Tet4 => &TET4_WEIGHTS,
             Rule::Wedge2 => &WEDGE2_WEIGHTS,
+            Rule::Wedge9 => &WEDGE9_WEIGHTS,
         }
     }
 
@@ -110,7 +145,8 @@ impl Rule {
     /// points, evaluated at natural coordinates `xi`: a value sampled at the
     /// points as `f_p` is `sum_p c_p f_p` at `xi`. The polynomial is
     /// trilinear (2x2x2), triquadratic (3x3x3), linear (4-point tetrahedron;
-    /// linear in `zeta` for the 2-point wedge) or constant (1 point); the
+    /// linear in `zeta` for the 2-point wedge; linear in the triangle and
+    /// quadratic in `zeta` for the 9-point wedge) or constant (1 point); the
     /// weights sum to one, so a constant is carried exactly.
     ///
     /// `out` must hold at least [`Rule::len`] values.
@@ -152,6 +188,21 @@ impl Rule {
                 let s = xi[2] / G2;
                 out[0] = 0.5 * (1.0 - s);
                 out[1] = 0.5 * (1.0 + s);
+            }
+            Rule::Wedge9 => {
+                // In the triangle, point k has t_k = 2/3 and 1/6 in the
+                // other slots: f(t) = sum_k (t_k - 1/6) / (1/2) f_k.
+                let t = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
+                let tri = t.map(|tk| (tk - 1.0 / 6.0) / 0.5);
+                let (x, a2) = (xi[2], G3 * G3);
+                let z = [
+                    x * (x - G3) / (2.0 * a2),
+                    (a2 - x * x) / a2,
+                    x * (x + G3) / (2.0 * a2),
+                ];
+                for (p, c) in out.iter_mut().take(9).enumerate() {
+                    *c = tri[p % 3] * z[p / 3];
+                }
             }
         }
     }

@@ -11,7 +11,9 @@
 //!   origin, 2 on `xi`, 3 on `eta`, 4 on `zeta`; 10-node mid-edge nodes 5-10
 //!   on edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4;
 //! - wedge: triangle `xi, eta >= 0, xi + eta <= 1` times `-1 <= zeta <= 1`;
-//!   nodes 1-3 (origin, `xi`, `eta`) on `zeta = -1`, 4-6 above them.
+//!   nodes 1-3 (origin, `xi`, `eta`) on `zeta = -1`, 4-6 above them;
+//!   15-node mid-edge nodes 7-9 on edges 1-2, 2-3, 3-1, 10-12 on 4-5, 5-6,
+//!   6-4, 13-15 on 1-4, 2-5, 3-6 (`shape15w.f`).
 
 use super::SolidKind;
 
@@ -68,16 +70,37 @@ const WEDGE6_NODES: [[f64; 3]; 6] = [
     [0.0, 1.0, 1.0],
 ];
 
+/// Natural coordinates of the 15-node wedge's nodes (the first 6 are the
+/// 6-node wedge's).
+const WEDGE15_NODES: [[f64; 3]; 15] = [
+    [0.0, 0.0, -1.0],
+    [1.0, 0.0, -1.0],
+    [0.0, 1.0, -1.0],
+    [0.0, 0.0, 1.0],
+    [1.0, 0.0, 1.0],
+    [0.0, 1.0, 1.0],
+    [0.5, 0.0, -1.0],
+    [0.5, 0.5, -1.0],
+    [0.0, 0.5, -1.0],
+    [0.5, 0.0, 1.0],
+    [0.5, 0.5, 1.0],
+    [0.0, 0.5, 1.0],
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+];
+
 /// Natural coordinates of the element's nodes, in node order.
 pub(super) const fn node_coordinates(kind: SolidKind) -> &'static [[f64; 3]] {
     let hex: &'static [[f64; 3]] = &HEX20_NODES;
     let tet: &'static [[f64; 3]] = &TET10_NODES;
     match kind {
-        SolidKind::C3D8 => hex.split_at(8).0,
+        SolidKind::C3D8 | SolidKind::C3D8I => hex.split_at(8).0,
         SolidKind::C3D20 | SolidKind::C3D20R => hex,
         SolidKind::C3D10 => tet,
         SolidKind::C3D4 => tet.split_at(4).0,
         SolidKind::C3D6 => &WEDGE6_NODES,
+        SolidKind::C3D15 => &WEDGE15_NODES,
     }
 }
 
@@ -91,11 +114,12 @@ pub(super) fn evaluate(
     dn: &mut [[f64; 3]; MAX_NODES],
 ) {
     match kind {
-        SolidKind::C3D8 => hex8(xi, n, dn),
+        SolidKind::C3D8 | SolidKind::C3D8I => hex8(xi, n, dn),
         SolidKind::C3D20 | SolidKind::C3D20R => hex20(xi, n, dn),
         SolidKind::C3D10 => tet10(xi, n, dn),
         SolidKind::C3D4 => tet4(xi, n, dn),
         SolidKind::C3D6 => wedge6(xi, n, dn),
+        SolidKind::C3D15 => wedge15(xi, n, dn),
     }
 }
 
@@ -197,5 +221,43 @@ fn wedge6(xi: [f64; 3], n: &mut [f64; MAX_NODES], dn: &mut [[f64; 3]; MAX_NODES]
             n[a] = t[i] * h;
             dn[a] = [DT[i][0] * h, DT[i][1] * h, 0.5 * sign * t[i]];
         }
+    }
+}
+
+/// 15-node serendipity wedge, with the triangle coordinates
+/// `t = (1 - xi - eta, xi, eta)` and `zeta`. Corner `i` of the layer
+/// `zeta_a = -1, 1`: `N = t_i (2 t_i - 1)(1 + zeta zeta_a) / 2 - t_i (1 -
+/// zeta^2) / 2`; mid-edge node between corners `i`, `j` of a layer:
+/// `N = 2 t_i t_j (1 + zeta zeta_a)`; mid-height node of corner `i`:
+/// `N = t_i (1 - zeta^2)`.
+fn wedge15(xi: [f64; 3], n: &mut [f64; MAX_NODES], dn: &mut [[f64; 3]; MAX_NODES]) {
+    let t = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
+    // d t_i / d (xi, eta)
+    const DT: [[f64; 2]; 3] = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+    let z = xi[2];
+    let bubble = 1.0 - z * z;
+    let d_of = |dt: [f64; 2], f: f64, dz: f64| [dt[0] * f, dt[1] * f, dz];
+    for (layer, sign) in [(0, -1.0), (1, 1.0)] {
+        let h = 1.0 + sign * z;
+        for i in 0..3 {
+            let a = 3 * layer + i;
+            let ti = t[i];
+            n[a] = 0.5 * ti * (2.0 * ti - 1.0) * h - 0.5 * ti * bubble;
+            // d/dt_i of the corner function, then the chain rule.
+            let d_dt = 0.5 * (4.0 * ti - 1.0) * h - 0.5 * bubble;
+            let d_dz = 0.5 * ti * (2.0 * ti - 1.0) * sign + ti * z;
+            dn[a] = d_of(DT[i], d_dt, d_dz);
+        }
+        for (k, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
+            let a = 6 + 3 * layer + k;
+            n[a] = 2.0 * t[i] * t[j] * h;
+            let d = [0, 1].map(|c| 2.0 * (DT[i][c] * t[j] + t[i] * DT[j][c]) * h);
+            dn[a] = [d[0], d[1], 2.0 * t[i] * t[j] * sign];
+        }
+    }
+    for i in 0..3 {
+        let a = 12 + i;
+        n[a] = t[i] * bubble;
+        dn[a] = d_of(DT[i], bubble, -2.0 * t[i] * z);
     }
 }

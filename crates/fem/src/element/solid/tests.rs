@@ -60,6 +60,7 @@ pub(super) fn distorted(kind: SolidKind, seed: u64, amplitude: f64) -> Vec<[f64;
     let corners = match kind {
         SolidKind::C3D20 | SolidKind::C3D20R => 8,
         SolidKind::C3D10 => 4,
+        SolidKind::C3D15 => 6,
         _ => kind.node_count(),
     };
     let mut x: Vec<[f64; 3]> = reference[..corners]
@@ -210,7 +211,7 @@ fn interior_point(kind: SolidKind, rng: &mut Random) -> [f64; 3] {
     let r = rng.vec3();
     match kind {
         SolidKind::C3D10 | SolidKind::C3D4 => r.map(|v| 0.15 + 0.1 * v),
-        SolidKind::C3D6 => [0.3 + 0.1 * r[0], 0.2 + 0.1 * r[1], 0.8 * r[2]],
+        SolidKind::C3D6 | SolidKind::C3D15 => [0.3 + 0.1 * r[0], 0.2 + 0.1 * r[1], 0.8 * r[2]],
         _ => r.map(|v| 0.9 * v),
     }
 }
@@ -233,7 +234,7 @@ fn rules_integrate_monomials_of_their_degree() {
         Rule::Tet1 | Rule::Tet4 => {
             fact(e[0]) * fact(e[1]) * fact(e[2]) / fact(e[0] + e[1] + e[2] + 3)
         }
-        Rule::Wedge2 => fact(e[0]) * fact(e[1]) / fact(e[0] + e[1] + 2) * cube(e[2]),
+        Rule::Wedge2 | Rule::Wedge9 => fact(e[0]) * fact(e[1]) / fact(e[0] + e[1] + 2) * cube(e[2]),
     };
     // (rule, degree per variable for the cube / total degree otherwise).
     let cases = [
@@ -242,6 +243,7 @@ fn rules_integrate_monomials_of_their_degree() {
         (Rule::Tet1, 1),
         (Rule::Tet4, 2),
         (Rule::Wedge2, 1),
+        (Rule::Wedge9, 2),
     ];
     for (rule, degree) in cases {
         for p in 0..=5 {
@@ -250,6 +252,7 @@ fn rules_integrate_monomials_of_their_degree() {
                     let ok = match rule {
                         Rule::Hex2 | Rule::Hex3 => p <= degree && q <= degree && r <= degree,
                         Rule::Wedge2 => p + q <= degree && r <= 3,
+                        Rule::Wedge9 => p + q <= degree && r <= 5,
                         _ => p + q + r <= degree,
                     };
                     if !ok {
@@ -282,6 +285,7 @@ fn interpolation_through_the_points_reproduces_its_polynomials() {
         Rule::Tet1 => 2.5,
         Rule::Tet4 => 1.0 + 2.0 * x[0] - 3.0 * x[1] + 0.5 * x[2],
         Rule::Wedge2 => 1.0 - 0.4 * x[2],
+        Rule::Wedge9 => (1.0 + 2.0 * x[0] - 0.5 * x[1]) * (1.0 - 0.4 * x[2] + 0.3 * x[2] * x[2]),
     };
     for kind in SolidKind::ALL {
         let rule = kind.stiffness_rule();

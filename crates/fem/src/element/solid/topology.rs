@@ -28,6 +28,20 @@ pub const HEX20_EDGES: [(usize, usize); 12] = [
 /// each joins.
 pub const TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
 
+/// Mid-edge nodes 7-15 of the 15-node wedge: the corners (0-based) each
+/// joins (bottom triangle, top triangle, then the vertical edges).
+pub const WEDGE15_EDGES: [(usize, usize); 9] = [
+    (0, 1),
+    (1, 2),
+    (2, 0),
+    (3, 4),
+    (4, 5),
+    (5, 3),
+    (0, 3),
+    (1, 4),
+    (2, 5),
+];
+
 /// The 8 corner nodes, in Abaqus order, of the cell `(i, j, k)` of a
 /// structured grid whose point `[i, j, k]` is node `node([i, j, k])`.
 pub fn hex_cell<N>(i: usize, j: usize, k: usize, node: impl Fn([usize; 3]) -> N) -> Vec<N> {

@@ -195,9 +195,9 @@ fn bad_decks_name_the_line_and_the_culprit() {
         (
             BRICKS,
             "*Element, type=c3d8",
-            "*ELEMENT, TYPE=C3D8I",
-            "TYPE=C3D8I",
-            &["C3D8I", "incompatible modes"],
+            "*ELEMENT, TYPE=C3D8R",
+            "TYPE=C3D8R",
+            &["C3D8R", "hourglass control"],
         ),
         // A missing include file.
         (

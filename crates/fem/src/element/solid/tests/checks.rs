@@ -20,7 +20,7 @@ fn reason(e: FemError) -> String {
 /// mid-edge nodes that go with them.
 fn reversed(kind: SolidKind) -> Vec<usize> {
     match kind {
-        SolidKind::C3D8 => vec![4, 5, 6, 7, 0, 1, 2, 3],
+        SolidKind::C3D8 | SolidKind::C3D8I => vec![4, 5, 6, 7, 0, 1, 2, 3],
         SolidKind::C3D20 | SolidKind::C3D20R => vec![
             4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
         ],
@@ -28,6 +28,7 @@ fn reversed(kind: SolidKind) -> Vec<usize> {
         // Corners 2 <-> 3; edges 1-2 <-> 3-1, 2-4 <-> 3-4.
         SolidKind::C3D10 => vec![0, 2, 1, 3, 6, 5, 4, 7, 9, 8],
         SolidKind::C3D6 => vec![3, 4, 5, 0, 1, 2],
+        SolidKind::C3D15 => vec![3, 4, 5, 0, 1, 2, 9, 10, 11, 6, 7, 8, 12, 13, 14],
     }
 }
 
