@@ -178,21 +178,28 @@ fn from_matrices(
         mass: m.mass,
         damping: None,
     };
-    Ok(Component {
-        path: path.to_path_buf(),
-        sub: Substructure::from_matrices(m.dof_map, matrices, coordinates),
-        model: None,
-        file: None,
-        element_sets: BTreeMap::new(),
-        catalogue: Catalogue::default(),
-        warnings: vec![],
-        notes: vec![],
-        unknown_keywords: UnknownKeywords::default(),
-        timing: (seconds, 0.0),
-    })
+    let sub = Substructure::from_matrices(m.dof_map, matrices, coordinates);
+    Ok(Component::of_matrices(path.to_path_buf(), sub, seconds))
 }
 
 impl Component {
+    /// A component of matrices alone (no mesh, no model file), read from
+    /// `path` in `seconds`.
+    pub fn of_matrices(path: PathBuf, sub: Substructure, seconds: f64) -> Self {
+        Component {
+            path,
+            sub,
+            model: None,
+            file: None,
+            element_sets: BTreeMap::new(),
+            catalogue: Catalogue::default(),
+            warnings: vec![],
+            notes: vec![],
+            unknown_keywords: UnknownKeywords::default(),
+            timing: (seconds, 0.0),
+        }
+    }
+
     /// `K` and `M` (and the damping), dropping the mesh and everything else.
     pub fn into_matrices(self) -> SystemMatrices {
         self.sub.matrices

@@ -309,23 +309,10 @@ fn main() -> ExitCode {
     }
 }
 
-/// The error and its causes, `outer: inner: ...`, each cause once: a
-/// wrapper that already prints its cause (`"reading the body: {0}"`) is
-/// not followed by that cause again. A cause that quotes a huge piece of
-/// its input (a 2 GiB line) is cut to its start and end.
+/// The error and its causes, `outer: inner: ...`
+/// ([`flexbody::io::text::error_chain`]).
 fn message(e: &anyhow::Error) -> String {
-    let mut out = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if out.ends_with(&text) {
-            continue;
-        }
-        if !out.is_empty() {
-            out.push_str(": ");
-        }
-        out.push_str(&flexbody::io::text::shortened(&text));
-    }
-    out
+    flexbody::io::text::error_chain(e.as_ref())
 }
 
 fn run(cli: Cli, progress: &dyn Progress) -> Result<()> {

@@ -10,7 +10,7 @@ use crate::progress::Spinner;
 use flexbody::fem::{Dof, Substructure, SystemMatrices};
 use flexbody::file_kind::Takes;
 use flexbody::input::{self, Component, MatrixFiles};
-use flexbody::io::deck::{Catalogue, DeckOptions, UnknownKeywords};
+use flexbody::io::deck::DeckOptions;
 use flexbody::linalg::memory::Budget;
 use flexbody::reduce::modes::{eigenmodes_owned, rigid::rigid_motion_count, Wanted};
 use flexbody::reduce::{reduce_reporting, Method, Reduction};
@@ -18,7 +18,7 @@ use flexbody::report::diagnose_mechanism;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -103,18 +103,8 @@ pub fn from_matrices(
         mass,
         damping,
     };
-    let c = Component {
-        path: PathBuf::from("matrices"),
-        sub: Substructure::from_matrices(dof_map, matrices, coordinates),
-        model: None,
-        file: None,
-        element_sets: BTreeMap::new(),
-        catalogue: Catalogue::default(),
-        warnings: vec![],
-        notes: vec![],
-        unknown_keywords: UnknownKeywords::default(),
-        timing: (0.0, 0.0),
-    };
+    let sub = Substructure::from_matrices(dof_map, matrices, coordinates);
+    let c = Component::of_matrices(PathBuf::from("matrices"), sub, 0.0);
     Ok(Model { c: Arc::new(c) })
 }
 

@@ -50,6 +50,26 @@ fn excerpt_of(head: &str, bytes: usize) -> Cow<'_, str> {
 /// The longest error message [`shortened`] leaves whole (1000 bytes).
 pub const MESSAGE_BYTES: usize = 1000;
 
+/// An error and its causes as one line, `outer: inner: ...`, each cause
+/// once (a wrapper that already prints its cause, `"reading the body:
+/// {0}"`, is not followed by that cause again) and each [`shortened`]: the
+/// message the command line prints and the Python package raises.
+pub fn error_chain(error: &(dyn std::error::Error + 'static)) -> String {
+    let mut out = String::new();
+    let mut cause = Some(error);
+    while let Some(c) = cause {
+        let text = c.to_string();
+        if !out.ends_with(&text) {
+            if !out.is_empty() {
+                out.push_str(": ");
+            }
+            out.push_str(&shortened(&text));
+        }
+        cause = c.source();
+    }
+    out
+}
+
 /// `message`, or its first 600 and last 300 bytes when it is longer than
 /// [`MESSAGE_BYTES`], saying how much was left out: what every error of
 /// the readers shows, so that no message quotes a huge piece of its input
