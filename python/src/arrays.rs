@@ -221,3 +221,24 @@ pub fn dof_map(flat: &[i64]) -> PyResult<DofMap> {
     }
     Ok(DofMap::new(dofs))
 }
+
+/// Node ids and coordinates as the arrays `(ids (k,), xyz (k, 3))`,
+/// ascending by id.
+pub type NodeArrays<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>);
+
+/// `nodes` as [`NodeArrays`], sorted by id.
+pub fn node_arrays(py: Python<'_>, mut nodes: Vec<(u64, [f64; 3])>) -> PyResult<NodeArrays<'_>> {
+    nodes.sort_by_key(|n| n.0);
+    let ids = nodes.iter().map(|n| n.0 as i64).collect();
+    let xyz = nodes.iter().flat_map(|n| n.1).collect();
+    Ok((PyArray1::from_vec(py, ids), rows(py, xyz, 3)?))
+}
+
+/// The nodes of a component with their coordinates: every node of its
+/// mesh, or the nodes matrices were given coordinates for.
+pub fn component_nodes(c: &flexbody::input::Component) -> Vec<(u64, [f64; 3])> {
+    match &c.model {
+        Some(m) => m.nodes().iter().map(|n| (n.id, n.coords)).collect(),
+        None => c.sub.coordinates.iter().map(|(&id, &x)| (id, x)).collect(),
+    }
+}

@@ -156,26 +156,16 @@ impl Body {
     /// (or those matrices were given coordinates for) for a body reduced in
     /// Python; the nodes a body file lists for one read from a file (NaN
     /// where the file gives no coordinates).
-    #[allow(clippy::type_complexity)]
-    fn nodes<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
-        let mut nodes: Vec<(u64, [f64; 3])> = match &self.source {
-            Some(c) => match &c.model {
-                Some(m) => m.nodes().iter().map(|n| (n.id, n.coords)).collect(),
-                None => c.sub.coordinates.iter().map(|(&id, &x)| (id, x)).collect(),
-            },
+    fn nodes<'py>(&self, py: Python<'py>) -> PyResult<arrays::NodeArrays<'py>> {
+        let nodes = match &self.source {
+            Some(c) => arrays::component_nodes(c),
             None => self
                 .nodes
                 .iter()
                 .map(|n| (n.id, n.coords.unwrap_or([f64::NAN; 3])))
                 .collect(),
         };
-        nodes.sort_by_key(|n| n.0);
-        let ids = nodes.iter().map(|n| n.0 as i64).collect();
-        let xyz = nodes.iter().flat_map(|n| n.1).collect();
-        Ok((PyArray1::from_vec(py, ids), arrays::rows(py, xyz, 3)?))
+        arrays::node_arrays(py, nodes)
     }
 
     /// The floating-frame description (the SID's content, docs/sid.md):

@@ -339,25 +339,8 @@ impl Model {
 
     /// Node ids and coordinates `(ids (k,), xyz (k, 3))`: every node of
     /// the mesh, or the nodes matrices were given coordinates for.
-    #[allow(clippy::type_complexity)]
-    fn nodes<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray2<f64>>)> {
-        let mut nodes: Vec<(u64, [f64; 3])> = match &self.c.model {
-            Some(m) => m.nodes().iter().map(|n| (n.id, n.coords)).collect(),
-            None => self
-                .c
-                .sub
-                .coordinates
-                .iter()
-                .map(|(&id, &x)| (id, x))
-                .collect(),
-        };
-        nodes.sort_by_key(|n| n.0);
-        let ids = nodes.iter().map(|n| n.0 as i64).collect();
-        let xyz = nodes.iter().flat_map(|n| n.1).collect();
-        Ok((PyArray1::from_vec(py, ids), arrays::rows(py, xyz, 3)?))
+    fn nodes<'py>(&self, py: Python<'py>) -> PyResult<arrays::NodeArrays<'py>> {
+        arrays::node_arrays(py, arrays::component_nodes(&self.c))
     }
 
     /// Node sets by name (node ids).
