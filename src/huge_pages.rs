@@ -1,5 +1,7 @@
-//! The command line's global allocator: the system allocator, asking the
-//! kernel for transparent huge pages (2 MiB) on large blocks.
+//! The global allocator of the command line and the Python extension: the
+//! system allocator, asking the kernel for transparent huge pages (2 MiB)
+//! on large blocks. A program that links the library chooses it with
+//! `#[global_allocator] static A: HugePages = HugePages;`.
 //!
 //! A model of 3e5 DOFs allocates several GB over a run (the factor, the
 //! Lanczos basis, blocks of right-hand sides), and the system allocator

@@ -28,6 +28,7 @@
 //! ```
 
 pub mod file_kind;
+pub mod huge_pages;
 pub mod input;
 pub mod model_summary;
 pub mod output;

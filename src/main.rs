@@ -20,11 +20,10 @@ use flexbody::{
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-mod huge_pages;
 mod stage_log;
 
 #[global_allocator]
-static ALLOCATOR: huge_pages::HugePages = huge_pages::HugePages;
+static ALLOCATOR: flexbody::huge_pages::HugePages = flexbody::huge_pages::HugePages;
 
 /// `println!` that ends the program quietly when stdout is closed (`| head`),
 /// instead of panicking on the broken pipe.

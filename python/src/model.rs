@@ -12,7 +12,7 @@ use flexbody::file_kind::Takes;
 use flexbody::input::{self, Component, MatrixFiles};
 use flexbody::io::deck::DeckOptions;
 use flexbody::linalg::memory::Budget;
-use flexbody::reduce::modes::{eigenmodes_owned, rigid::rigid_motion_count, Wanted};
+use flexbody::reduce::modes::{eigenmodes_lent, rigid::rigid_motion_count, Wanted};
 use flexbody::reduce::{reduce_reporting, Method, Reduction};
 use flexbody::report::diagnose_mechanism;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
@@ -184,7 +184,7 @@ type ModesTuple<'py> = (
 impl Model {
     /// The lowest modes (`count`, default 10), every mode below `fmax` Hz,
     /// or the lowest `count` below `fmax`: the eigen solve of `flexbody
-    /// modes`, on copies of K and M (the model keeps its own).
+    /// modes`, on the model's own K and M (lent to the solver, not copied).
     #[pyo3(signature = (count=None, fmax=None))]
     fn modes<'py>(
         &self,
@@ -202,7 +202,7 @@ impl Model {
             .detach(|| {
                 let spinner = Spinner::new("modes");
                 let (k, m) = (&sub.matrices.stiffness, &sub.matrices.mass);
-                eigenmodes_owned(k.clone(), m.clone(), band, Budget::MACHINE, &spinner)
+                eigenmodes_lent(k, m, band, Budget::MACHINE, &spinner)
             })
             .map_err(to_py)?;
         let mechanism = diagnose_mechanism(&modes.values, sub.support, rigid)

@@ -60,6 +60,33 @@ fn every_alias_reads_as_a_registered_type() {
     assert!(ElementType::resolve("C3D8RH").is_none());
 }
 
+/// Two S4 and one S3 shell, 3 mm steel, one edge held.
+const SHELLS: &str = "\
+*NODE
+1, 0., 0., 0.
+2, 1., 0., 0.
+3, 2., 0., 0.
+4, 0., 1., 0.
+5, 1., 1., 0.1
+6, 2., 1., 0.
+7, 3., 0.5, 0.
+*ELEMENT, TYPE=S4, ELSET=PLATE
+1, 1, 2, 5, 4
+2, 2, 3, 6, 5
+*ELEMENT, TYPE=S3, ELSET=PLATE
+3, 3, 7, 6
+*MATERIAL, NAME=STEEL
+*ELASTIC
+2.1e11, 0.3
+*DENSITY
+7850.
+*SHELL SECTION, ELSET=PLATE, MATERIAL=STEEL
+0.003
+*BOUNDARY
+1, 1, 6
+4, 1, 6
+";
+
 #[test]
 fn hybrid_and_modified_names_give_their_base_type_s_matrices_and_say_so() {
     let decks = [
@@ -79,6 +106,7 @@ fn hybrid_and_modified_names_give_their_base_type_s_matrices_and_say_so() {
             None if alias.reads_as == "C3D8I" => {
                 fixture_text("hex_beam").replace("TYPE=C3D8, ", "TYPE=C3D8I, ")
             }
+            None if alias.reads_as.starts_with('S') => SHELLS.to_string(),
             None => BEAM.to_string(),
         };
         let base = format!("TYPE={}, ", alias.reads_as);

@@ -419,13 +419,19 @@ impl EveryElementType {
 }
 
 /// Section values for tests, by kind: steel (E = 210 GPa, nu = 0.3, rho =
-/// 7850 kg/m^3); beams a 50 mm wide, 80 mm high rectangle with local y
-/// along global y; masses of 12.5 kg; springs of 1e6 N/m and dashpots of
-/// 2e3 N s/m on `uy` (as many DOFs as the kind names).
+/// 7850 kg/m^3); shells 10 mm thick; beams a 50 mm wide, 80 mm high
+/// rectangle with local y along global y; masses of 12.5 kg; springs of
+/// 1e6 N/m and dashpots of 2e3 N s/m on `uy` (as many DOFs as the kind
+/// names).
 pub fn sample_section(kind: SectionKind) -> SectionValues {
     let material = Material::new(2.1e11, 0.3, 7850.0).expect("valid constants");
     match kind {
         SectionKind::Solid => SectionValues::Solid { material },
+        SectionKind::Shell => SectionValues::Shell {
+            material,
+            thickness: 0.01,
+            offset: 0.0,
+        },
         SectionKind::Beam => SectionValues::Beam {
             material,
             constants: crate::SectionShape::Rect {

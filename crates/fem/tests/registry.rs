@@ -28,6 +28,7 @@ fn variant(e: &Element) -> &'static str {
         Element::Spring(_) => "Spring",
         Element::AxialSpring(_) => "AxialSpring",
         Element::Solid(_) => "Solid",
+        Element::Shell(_) => "Shell",
         Element::Dashpot(_) => "Dashpot",
         Element::AxialDashpot(_) => "AxialDashpot",
     }
@@ -75,6 +76,7 @@ fn every_element_variant_is_built_through_the_registry() {
         "Spring",
         "AxialSpring",
         "Solid",
+        "Shell",
         "Dashpot",
         "AxialDashpot",
     ]

@@ -17,6 +17,7 @@ mod mass_distribution;
 pub mod planar_beam;
 pub mod point_mass;
 mod registry;
+pub mod shell;
 pub mod solid;
 pub mod spring;
 
@@ -29,6 +30,7 @@ pub use point_mass::PointMass;
 pub use registry::{
     element_types, ElementAlias, ElementType, SectionKind, SectionValues, ELEMENT_ALIASES,
 };
+pub use shell::{Shell, ShellKind};
 pub use solid::{von_mises, Solid, SolidKind};
 pub use spring::{AxialSpring, Spring};
 
@@ -85,13 +87,16 @@ element_kinds! {
     AxialDashpot(AxialDashpot),
     /// Solid element (C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15).
     Solid(Solid),
+    /// Shell element, 6 DOFs per node (S3, S4).
+    Shell(Shell),
 }
 
 /// The element types decks name, the rows of every element file, in the
-/// order the deck reader lists them: solids, beams, masses, springs,
-/// dashpots.
+/// order the deck reader lists them: solids, shells, beams, masses,
+/// springs, dashpots.
 pub static ELEMENT_TYPES: &[&[ElementType]] = &[
     solid::ELEMENT_TYPES,
+    shell::ELEMENT_TYPES,
     beam::ELEMENT_TYPES,
     point_mass::ELEMENT_TYPES,
     spring::ELEMENT_TYPES,

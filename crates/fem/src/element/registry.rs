@@ -64,6 +64,10 @@ const HYBRID: &str = "hybrid (H): Abaqus adds an independent pressure, condensed
     element, to handle incompressibility; for a compressible material its K is close to the \
     displacement element's, and the same where the pressure spans the element's volumetric \
     strain. flexbody uses the displacement element's K and M (M is the same in both)";
+const REDUCED_SHELL: &str = "reduced integration (R): Abaqus integrates the membrane and \
+    bending of S4R at one point with hourglass control (S3R is S3 itself); flexbody uses its \
+    MITC shell, integrated fully, which has no hourglass modes; frequencies differ at the \
+    discretisation level";
 const MODIFIED_TET: &str = "modified tetrahedron (M): Abaqus' own shape functions and \
     integration (made for contact), read as the standard quadratic tetrahedron; frequencies \
     differ at the discretisation level";
@@ -125,6 +129,16 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
             frequencies differ at the discretisation level",
     },
     ElementAlias {
+        name: "S4R",
+        reads_as: "S4",
+        meaning: REDUCED_SHELL,
+    },
+    ElementAlias {
+        name: "S3R",
+        reads_as: "S3",
+        meaning: REDUCED_SHELL,
+    },
+    ElementAlias {
         name: "B31H",
         reads_as: "B31",
         meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
@@ -155,6 +169,8 @@ pub fn element_types() -> impl Iterator<Item = &'static ElementType> {
 pub enum SectionKind {
     /// A material (`*SOLID SECTION`).
     Solid,
+    /// A material, a thickness and an offset (`*SHELL SECTION`).
+    Shell,
     /// A material, cross-section constants and an orientation
     /// (`*BEAM SECTION`).
     Beam,
@@ -173,6 +189,14 @@ pub enum SectionKind {
 pub enum SectionValues {
     Solid {
         material: Material,
+    },
+    Shell {
+        material: Material,
+        /// Thickness (m).
+        thickness: f64,
+        /// Mid-surface offset from the nodes along the normal, in
+        /// thicknesses.
+        offset: f64,
     },
     Beam {
         material: Material,
@@ -203,6 +227,7 @@ impl SectionValues {
     pub fn kind(&self) -> SectionKind {
         match self {
             SectionValues::Solid { .. } => SectionKind::Solid,
+            SectionValues::Shell { .. } => SectionKind::Shell,
             SectionValues::Beam { .. } => SectionKind::Beam,
             SectionValues::Mass { .. } => SectionKind::Mass,
             SectionValues::Spring { dofs, .. } => SectionKind::Spring {

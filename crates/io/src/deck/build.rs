@@ -584,6 +584,11 @@ impl Properties<'_> {
             SectionData::Solid => SectionValues::Solid {
                 material: self.material(s)?,
             },
+            SectionData::Shell { thickness, offset } => SectionValues::Shell {
+                material: self.isotropic_material(s, "shells")?,
+                thickness: *thickness,
+                offset: *offset,
+            },
             SectionData::Beam { constants, n1 } => SectionValues::Beam {
                 material: self.beam_material(s)?,
                 constants: constants.clone(),
@@ -609,14 +614,21 @@ impl Properties<'_> {
 
     /// The material of a beam section: isotropic only.
     fn beam_material(&mut self, s: &RawSection) -> Result<Material, InputError> {
+        self.isotropic_material(s, "beams")
+    }
+
+    /// The material of section `s`, which must be isotropic for `what`
+    /// (beams: their section constants need one E and G; shells: their
+    /// plane-stress law).
+    fn isotropic_material(&mut self, s: &RawSection, what: &str) -> Result<Material, InputError> {
         let material = self.material(s)?;
         if material.anisotropy.is_some() {
             let name = s.material.as_deref().unwrap_or_default();
             return Err(self.files.error(
                 s.loc,
                 format!(
-                    "{}: material '{name}' is anisotropic; beams take isotropic materials \
-                     only (their section constants need one E and G)",
+                    "{}: material '{name}' is anisotropic; {what} take isotropic materials \
+                     only (one E and nu)",
                     s.keyword
                 ),
             ));

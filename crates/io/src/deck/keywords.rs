@@ -40,6 +40,7 @@ const MATERIAL_OPTIONS: &[&str] = &[
 pub(super) fn property_keyword(section: SectionKind) -> &'static str {
     match section {
         SectionKind::Solid => "*SOLID SECTION",
+        SectionKind::Shell => "*SHELL SECTION",
         SectionKind::Beam => "*BEAM SECTION",
         SectionKind::Mass => "*MASS",
         SectionKind::Spring { .. } => "*SPRING",
@@ -52,9 +53,11 @@ fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
         "C3D8R" | "C3D8RH" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
         "B32" | "B32R" | "B31R" => " (use B31)",
-        _ if t.starts_with('S') || t.starts_with('M') => {
-            " (shells and membranes are not implemented)"
+        "S6" | "S8" | "S8R" | "S4R5" | "S8R5" | "S9R5" => {
+            " (quadratic shells are not implemented yet; S3 and S4 are)"
         }
+        _ if t.starts_with('S') => " (flexbody's shells are S3 and S4 (S3R, S4R))",
+        _ if t.starts_with('M') => " (membranes are not implemented)",
         _ if t.starts_with("CP") || t.starts_with("CAX") => {
             " (plane and axisymmetric elements are not implemented)"
         }
@@ -233,6 +236,7 @@ impl<'a> Reader<'a> {
                     self.initial_temperature = Some(card.clone())
                 }
                 "SOLIDSECTION" => self.solid_section(card)?,
+                "SHELLSECTION" => self.shell_section(card)?,
                 "BEAMSECTION" => self.beam_section(card)?,
                 "MASS" => self.mass(card)?,
                 "SPRING" => self.spring(card)?,

@@ -113,7 +113,6 @@ pub(super) const REFUSED: &[(&str, &str)] = &[
     ),
     ("CONTACT", "stiffness matrix"),
     ("GAP", "stiffness matrix"),
-    ("SHELLSECTION", "stiffness and mass matrices"),
     ("MEMBRANESECTION", "stiffness and mass matrices"),
     ("BEAMGENERALSECTION", "stiffness and mass matrices"),
     ("FLUIDSECTION", "stiffness and mass matrices"),

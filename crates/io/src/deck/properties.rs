@@ -1,6 +1,6 @@
 //! Materials (`*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*DAMPING`), the
-//! keywords that give elements their properties (`*SOLID SECTION`, `*BEAM
-//! SECTION`, `*MASS`, `*SPRING`, `*DASHPOT`), and the model's Rayleigh
+//! keywords that give elements their properties (`*SOLID SECTION`, `*SHELL
+//! SECTION`, `*BEAM SECTION`, `*MASS`, `*SPRING`, `*DASHPOT`), and the model's Rayleigh
 //! damping (`*MODAL DAMPING, RAYLEIGH`), as read; they are assigned to
 //! elements in `build.rs`.
 //!
@@ -36,6 +36,13 @@ pub(super) struct RawMaterial {
 #[derive(Clone, Debug)]
 pub(super) enum SectionData {
     Solid,
+    Shell {
+        /// Thickness (m).
+        thickness: f64,
+        /// Abaqus' `OFFSET=`: where the nodes lie from the mid-surface along
+        /// the normal, in thicknesses.
+        offset: f64,
+    },
     Beam {
         constants: SectionConstants,
         /// Local 1 direction (flexbody's local y).
@@ -54,6 +61,7 @@ impl SectionData {
         matches!(
             (self, t.section),
             (SectionData::Solid, SectionKind::Solid)
+                | (SectionData::Shell { .. }, SectionKind::Shell)
                 | (SectionData::Beam { .. }, SectionKind::Beam)
                 | (SectionData::Mass(_), SectionKind::Mass)
                 | (SectionData::Spring(_), SectionKind::Spring { .. })
@@ -344,6 +352,79 @@ impl Reader<'_> {
         self.check_params(card, &["ELSET", "MATERIAL", "ORIENTATION", "CONTROLS"]);
         let material = card.require_name(self.files, "MATERIAL")?;
         self.push_section(card, Some(material), SectionData::Solid)
+    }
+
+    /// `*SHELL SECTION, ELSET=, MATERIAL=[, OFFSET=][, ORIENTATION=]` with
+    /// the thickness on its data line (a second value, the number of
+    /// integration points through the thickness, does not apply: the
+    /// linear elastic section is integrated exactly). Composite layups and
+    /// nodal thicknesses are refused.
+    pub(super) fn shell_section(&mut self, card: &Card) -> Result<(), InputError> {
+        self.check_params(
+            card,
+            &[
+                "ELSET",
+                "MATERIAL",
+                "OFFSET",
+                "ORIENTATION",
+                "SECTIONINTEGRATION",
+                "CONTROLS",
+                "POISSON",
+            ],
+        );
+        let files = self.files;
+        for (key, what) in [
+            (
+                "COMPOSITE",
+                "composite layups are not supported (give one material and thickness)",
+            ),
+            (
+                "NODALTHICKNESS",
+                "nodal thicknesses are not supported (give the thickness)",
+            ),
+        ] {
+            if card.has(key) {
+                return Err(files.error(card.loc, format!("*SHELL SECTION, {what}")));
+            }
+        }
+        let offset = match card.value("OFFSET") {
+            None => 0.0,
+            Some(v) if v.eq_ignore_ascii_case("SPOS") => 0.5,
+            Some(v) if v.eq_ignore_ascii_case("SNEG") => -0.5,
+            Some(v) => super::cards::parse_float(v)
+                .filter(|o| o.is_finite())
+                .ok_or_else(|| {
+                    files.error(
+                        card.loc,
+                        format!("*SHELL SECTION, OFFSET={v}: not a number, SPOS or SNEG"),
+                    )
+                })?,
+        };
+        let material = card.require_name(files, "MATERIAL")?;
+        let line = card.data.first().ok_or_else(|| {
+            files.error(
+                card.loc,
+                "*SHELL SECTION needs a data line with the thickness (m)",
+            )
+        })?;
+        if card.data.len() > 1 {
+            return Err(files.error(
+                card.data[1].loc,
+                "*SHELL SECTION: a second data line is a composite layup, which is not supported",
+            ));
+        }
+        let thickness = line.float(files, 0, "*SHELL SECTION: the thickness")?;
+        if !(thickness.is_finite() && thickness > 0.0) {
+            return Err(files.error(
+                line.loc,
+                format!("*SHELL SECTION: the thickness must be positive, got {thickness}"),
+            ));
+        }
+        self.push_section(
+            card,
+            Some(material),
+            SectionData::Shell { thickness, offset },
+        )
     }
 
     pub(super) fn beam_section(&mut self, card: &Card) -> Result<(), InputError> {

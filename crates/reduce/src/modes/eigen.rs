@@ -59,6 +59,21 @@ pub fn eigenmodes_owned(
     Ok((modes, residuals))
 }
 
+/// [`eigenmodes_owned`] for a caller that keeps `K` and `M`: no copy of
+/// them is made (the pencil's compact copy is all the solver adds), but
+/// they stay in memory through the factorisation.
+pub fn eigenmodes_lent(
+    stiffness: &SparseMat,
+    mass: &SparseMat,
+    band: Wanted,
+    budget: Budget,
+    progress: &dyn Progress,
+) -> Result<(EigenModes, Vec<f64>), ReduceError> {
+    let matrices = Matrices::lent(stiffness, mass).under(budget);
+    let (modes, residuals, _) = eigenmodes_from(matrices, band, progress)?;
+    Ok((modes, residuals))
+}
+
 /// [`eigenmodes_owned`] on `K` and `M` lent or handed over, with the
 /// products a reduction needs afterwards (from the pencil's compact copy
 /// on a large model).

@@ -13,7 +13,7 @@ pub(crate) mod zero_modes;
 
 pub use attachment::{attachment_modes, unit_loads};
 pub use constraint::constraint_modes;
-pub use eigen::{eigenmodes, eigenmodes_owned, EigenModes, Wanted, DENSE_LIMIT};
+pub use eigen::{eigenmodes, eigenmodes_lent, eigenmodes_owned, EigenModes, Wanted, DENSE_LIMIT};
 pub use elastic_interface::elastic_residual_modes;
 pub use fixed_interface::craig_bampton_modes;
 pub use free_interface::inertia_relief_and_free_modes;

@@ -29,7 +29,7 @@ fn ignored_unknown_and_refused_keywords() {
             "stiffness and mass",
         ),
         (
-            "*SHELL SECTION, ELSET=BEAM, MATERIAL=STEEL\n0.01\n",
+            "*MEMBRANE SECTION, ELSET=BEAM, MATERIAL=STEEL\n0.01\n",
             "stiffness",
         ),
     ] {
@@ -188,9 +188,9 @@ fn bad_decks_name_the_line_and_the_culprit() {
         (
             BRICKS,
             "*Element, type=c3d8",
-            "*ELEMENT, TYPE=S4",
-            "TYPE=S4",
-            &["element type S4 is not supported"],
+            "*ELEMENT, TYPE=S8R",
+            "TYPE=S8R",
+            &["element type S8R is not supported", "quadratic shells"],
         ),
         (
             BRICKS,

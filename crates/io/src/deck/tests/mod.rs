@@ -11,6 +11,7 @@ mod includes;
 mod keywords;
 mod masses;
 mod registry;
+mod shells;
 mod solids;
 
 fn parse(text: &str) -> Result<Deck, InputError> {

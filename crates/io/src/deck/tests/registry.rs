@@ -12,6 +12,7 @@ use std::fmt::Write as _;
 fn section_lines(kind: SectionKind) -> &'static str {
     match kind {
         SectionKind::Solid => "",
+        SectionKind::Shell => "0.01\n",
         SectionKind::Beam => "0.05, 0.08\n0.0, 1.0, 0.0\n",
         SectionKind::Mass => "12.5\n",
         SectionKind::Spring { dofs: 0 } => "1.0e6\n",
@@ -46,7 +47,7 @@ fn a_deck_with_every_registered_type_gives_the_elements_the_registry_builds() {
     for (t, e) in &every.elements {
         let keyword = property_keyword(t.section);
         let params = match t.section {
-            SectionKind::Solid => ", MATERIAL=STEEL",
+            SectionKind::Solid | SectionKind::Shell => ", MATERIAL=STEEL",
             SectionKind::Beam => ", MATERIAL=STEEL, SECTION=RECT",
             SectionKind::Mass | SectionKind::Spring { .. } | SectionKind::Dashpot { .. } => "",
         };

@@ -1,0 +1,502 @@
+//! The strains, stiffness, mass and stresses of the MITC shell (see the
+//! module docs of [`super`]): a degenerated continuum over the reference
+//! surface, its transverse shear strains tied at the edges.
+
+use super::surface::{self, MAX_NODES, THICKNESS_RULE};
+use super::ShellKind;
+use crate::element::MassPoint;
+use faer::Mat;
+
+/// Largest number of DOFs of a shell element (six per node).
+pub(super) const MAX_DOFS: usize = 6 * MAX_NODES;
+
+/// One linear form of the element's DOFs (`ux uy uz rx ry rz` node by node).
+type Row = [f64; MAX_DOFS];
+
+const ZERO_ROW: Row = [0.0; MAX_DOFS];
+
+/// The shear correction factor of the transverse shear stiffness (the
+/// energy of a parabolic shear distribution through the thickness).
+pub(super) const SHEAR_FACTOR: f64 = 5.0 / 6.0;
+
+/// The drilling stiffness per area, as a fraction of `G t`: the penalty on
+/// the difference between a node's rotation about the normal and the
+/// rotation of the membrane (Hughes and Brezzi), zero under a rigid motion.
+pub(super) const DRILLING: f64 = 1e-3;
+
+/// The element's reference surface, relative to its first node, with a
+/// unit director at each node (the element's normal there) and its
+/// thickness and offset.
+pub(super) struct Geometry {
+    pub kind: ShellKind,
+    pub origin: [f64; 3],
+    pub rel: [[f64; 3]; MAX_NODES],
+    pub director: [[f64; 3]; MAX_NODES],
+    /// Thickness `a` (m).
+    pub thickness: f64,
+    /// The mid-surface's distance from the nodes along the director, in
+    /// thicknesses.
+    pub offset: f64,
+}
+
+/// Everything at one point `(r, s, t)` of the shell: shape functions, the
+/// covariant base vectors `g_r, g_s, g_t`, the distance `h` of the level
+/// from the nodes along the directors, `det J` and the local frame.
+pub(super) struct Point {
+    pub n: [f64; MAX_NODES],
+    pub dn: [[f64; 2]; MAX_NODES],
+    pub g: [[f64; 3]; 3],
+    pub h: f64,
+    pub det_j: f64,
+    /// `e1` along `g_r`, `e3` normal to `g_r` and `g_s`, `e2 = e3 x e1`.
+    pub frame: [[f64; 3]; 3],
+    /// `a[alpha][k] = g^alpha . e_k` (contravariant base vectors on the frame).
+    pub a: [[f64; 3]; 3],
+}
+
+impl Geometry {
+    fn nodes(&self) -> usize {
+        self.kind.node_count()
+    }
+
+    /// The point at natural coordinates `rs` and thickness coordinate `t`
+    /// (`-1` bottom, `1` top).
+    pub fn point(&self, rs: [f64; 2], t: f64) -> Point {
+        let (mut n, mut dn) = ([0.0; MAX_NODES], [[0.0; 2]; MAX_NODES]);
+        surface::evaluate(self.kind, rs, &mut n, &mut dn);
+        let h = self.thickness * (self.offset + 0.5 * t);
+        let mut g = [[0.0; 3]; 3];
+        for i in 0..self.nodes() {
+            let (x, v) = (self.rel[i], self.director[i]);
+            for c in 0..3 {
+                let p = x[c] + h * v[c];
+                g[0][c] += dn[i][0] * p;
+                g[1][c] += dn[i][1] * p;
+                g[2][c] += 0.5 * self.thickness * n[i] * v[c];
+            }
+        }
+        let normal = cross(g[0], g[1]);
+        let det_j = dot(normal, g[2]);
+        let e3 = unit(normal);
+        let e1 = unit(g[0]);
+        let frame = [e1, cross(e3, e1), e3];
+        let contra = [
+            cross(g[1], g[2]).map(|v| v / det_j),
+            cross(g[2], g[0]).map(|v| v / det_j),
+            normal.map(|v| v / det_j),
+        ];
+        let a = contra.map(|ga| frame.map(|e| dot(ga, e)));
+        Point {
+            n,
+            dn,
+            g,
+            h,
+            det_j,
+            frame,
+            a,
+        }
+    }
+
+    /// The global position of the reference (node) surface at `rs`.
+    pub fn position(&self, rs: [f64; 2]) -> [f64; 3] {
+        let (mut n, mut dn) = ([0.0; MAX_NODES], [[0.0; 2]; MAX_NODES]);
+        surface::evaluate(self.kind, rs, &mut n, &mut dn);
+        let mut x = self.origin;
+        for (ni, r) in n.iter().zip(&self.rel).take(self.nodes()) {
+            for c in 0..3 {
+                x[c] += ni * r[c];
+            }
+        }
+        x
+    }
+
+    /// The factors of `u_a` and of `theta_a x V_a` in `dU/dr, dU/ds,
+    /// dU/dt` at `p`: `[c, d]` per derivative.
+    fn factors(&self, p: &Point, a: usize) -> [[f64; 2]; 3] {
+        [
+            [p.dn[a][0], p.dn[a][0] * p.h],
+            [p.dn[a][1], p.dn[a][1] * p.h],
+            [0.0, 0.5 * self.thickness * p.n[a]],
+        ]
+    }
+
+    /// The covariant strain `e_ab = (g_a . U,b + g_b . U,a) / 2` at `p` as a
+    /// row over the DOFs, for the derivative indices `a`, `b` (0 r, 1 s,
+    /// 2 t).
+    fn covariant(&self, p: &Point, alpha: usize, beta: usize) -> Row {
+        let mut row = ZERO_ROW;
+        for i in 0..self.nodes() {
+            let f = self.factors(p, i);
+            let v = self.director[i];
+            let (ga, gb) = (p.g[alpha], p.g[beta]);
+            let (va, vb) = (cross(v, ga), cross(v, gb));
+            for c in 0..3 {
+                row[6 * i + c] = 0.5 * (f[beta][0] * ga[c] + f[alpha][0] * gb[c]);
+                row[6 * i + 3 + c] = 0.5 * (f[beta][1] * va[c] + f[alpha][1] * vb[c]);
+            }
+        }
+        row
+    }
+
+    /// The transverse shear strains `e_rt`, `e_st` of the element at
+    /// `(rs, t)`, interpolated from their values at the tying points on
+    /// the edges (MITC4: Dvorkin and Bathe; MITC3: Lee and Bathe).
+    fn tied_shear(&self, [r, s]: [f64; 2], t: f64) -> [Row; 2] {
+        let at = |rs: [f64; 2], alpha: usize| {
+            let p = self.point(rs, t);
+            self.covariant(&p, alpha, 2)
+        };
+        match self.kind {
+            ShellKind::S4 => {
+                let (a, c) = (at([0.0, 1.0], 0), at([0.0, -1.0], 0));
+                let (d, b) = (at([1.0, 0.0], 1), at([-1.0, 0.0], 1));
+                let rt = combine(&[(0.5 * (1.0 + s), &a), (0.5 * (1.0 - s), &c)]);
+                let st = combine(&[(0.5 * (1.0 + r), &d), (0.5 * (1.0 - r), &b)]);
+                [rt, st]
+            }
+            ShellKind::S3 => {
+                let rt1 = at([0.5, 0.0], 0);
+                let st2 = at([0.0, 0.5], 1);
+                let (rt3, st3) = (at([0.5, 0.5], 0), at([0.5, 0.5], 1));
+                // c = (e_st^2 - e_rt^1) - (e_st^3 - e_rt^3).
+                let c = combine(&[(1.0, &st2), (-1.0, &rt1), (-1.0, &st3), (1.0, &rt3)]);
+                [
+                    combine(&[(1.0, &rt1), (s, &c)]),
+                    combine(&[(1.0, &st2), (-r, &c)]),
+                ]
+            }
+        }
+    }
+
+    /// The strains on the local frame at `(rs, t)`, as rows:
+    /// `[e11, e22, g12, g13, g23]` (engineering shears), the transverse
+    /// shears from the tied covariant strains.
+    pub fn local_strains(&self, rs: [f64; 2], t: f64) -> (Point, [Row; 5]) {
+        let p = self.point(rs, t);
+        let [rt, st] = self.tied_shear(rs, t);
+        let cov = [
+            self.covariant(&p, 0, 0),
+            self.covariant(&p, 1, 1),
+            self.covariant(&p, 0, 1),
+            rt,
+            st,
+        ];
+        let a = &p.a;
+        let pairs = [
+            (0, 0, 1.0),
+            (1, 1, 1.0),
+            (0, 1, 2.0),
+            (0, 2, 2.0),
+            (1, 2, 2.0),
+        ];
+        let rows = pairs.map(|(k, l, factor)| {
+            let coefficients = [
+                a[0][k] * a[0][l],
+                a[1][k] * a[1][l],
+                a[0][k] * a[1][l] + a[1][k] * a[0][l],
+                a[0][k] * a[2][l] + a[2][k] * a[0][l],
+                a[1][k] * a[2][l] + a[2][k] * a[1][l],
+            ];
+            let terms: Vec<(f64, &Row)> = coefficients
+                .iter()
+                .zip(&cov)
+                .map(|(c, row)| (factor * c, row))
+                .collect();
+            combine(&terms)
+        });
+        (p, rows)
+    }
+
+    /// The drilling strain at the mid-surface point `rs`: the rotation
+    /// about the normal, interpolated from the nodes, less the membrane's
+    /// rotation `(du2/dx1 - du1/dx2) / 2`; zero under a rigid motion.
+    fn drilling(&self, rs: [f64; 2]) -> (Point, Row) {
+        let p = self.point(rs, 0.0);
+        let mut row = ZERO_ROW;
+        let [e1, e2, e3] = p.frame;
+        for i in 0..self.nodes() {
+            let f = self.factors(&p, i);
+            let v = self.director[i];
+            // dU/dx_k = sum_alpha dU/dalpha a[alpha][k] (alpha = r, s).
+            for (fa, aa) in f.iter().zip(&p.a).take(2) {
+                let (a1, a2) = (aa[0], aa[1]);
+                let (c, d) = (fa[0], fa[1]);
+                let (v2, v1) = (cross(v, e2), cross(v, e1));
+                for k in 0..3 {
+                    row[6 * i + k] -= 0.5 * c * (a1 * e2[k] - a2 * e1[k]);
+                    row[6 * i + 3 + k] -= 0.5 * d * (a1 * v2[k] - a2 * v1[k]);
+                }
+            }
+            for k in 0..3 {
+                row[6 * i + 3 + k] += p.n[i] * e3[k];
+            }
+        }
+        (p, row)
+    }
+
+    /// Stiffness (`6 n` square, symmetric) of the material `(E, nu)`:
+    /// membrane, bending and tied transverse shear over the in-plane rule
+    /// and two points through the thickness, plus the drilling penalty.
+    pub fn stiffness(&self, youngs_modulus: f64, poisson_ratio: f64) -> Mat<f64> {
+        let nd = 6 * self.nodes();
+        let d = Elasticity::new(youngs_modulus, poisson_ratio);
+        let mut k = vec![0.0; nd * nd];
+        for (rs, w) in surface::rule(self.kind) {
+            for (t, wt) in THICKNESS_RULE {
+                let (p, rows) = self.local_strains(*rs, t);
+                let wd = w * wt * p.det_j;
+                let stressed = d.apply(&rows, nd);
+                add_products(&mut k, nd, &rows, &stressed, wd);
+            }
+            let (p, row) = self.drilling(*rs);
+            let area = norm(cross(p.g[0], p.g[1]));
+            let penalty = DRILLING * d.shear * self.thickness * w * area;
+            add_products(&mut k, nd, &[row], &[row], penalty);
+        }
+        symmetric(nd, &k)
+    }
+
+    /// The mass as rigid slices through the thickness, one per point of
+    /// the in-plane rule (see [`super::Shell`]'s mass docs).
+    pub fn mass_points(&self, density: f64) -> Vec<MassPoint> {
+        let nd = 6 * self.nodes();
+        let a = self.thickness;
+        surface::rule(self.kind)
+            .iter()
+            .map(|(rs, w)| {
+                let p = self.point(*rs, 0.0);
+                let mass = density * a * w * norm(cross(p.g[0], p.g[1]));
+                let n = p.frame[2];
+                let j = mass * a * a / 12.0;
+                let inertia = std::array::from_fn(|i| {
+                    std::array::from_fn(|k| {
+                        let delta = if i == k { 1.0 } else { 0.0 };
+                        j * (delta - n[i] * n[k])
+                    })
+                });
+                let mut translation = Mat::<f64>::zeros(3, nd);
+                let mut rotation = Mat::<f64>::zeros(3, nd);
+                let mut position = self.position(*rs);
+                for i in 0..self.nodes() {
+                    let (ni, v) = (p.n[i], self.director[i]);
+                    for c in 0..3 {
+                        position[c] += ni * p.h * v[c];
+                        translation[(c, 6 * i + c)] = ni;
+                        rotation[(c, 6 * i + 3 + c)] = ni;
+                    }
+                    // theta x (h V) = -(h V)~ theta.
+                    let hv = v.map(|x| p.h * ni * x);
+                    let skew = [
+                        [0.0, -hv[2], hv[1]],
+                        [hv[2], 0.0, -hv[0]],
+                        [-hv[1], hv[0], 0.0],
+                    ];
+                    for (r, row) in skew.iter().enumerate() {
+                        for (c, value) in row.iter().enumerate() {
+                            translation[(r, 6 * i + 3 + c)] -= value;
+                        }
+                    }
+                }
+                MassPoint {
+                    position,
+                    mass,
+                    inertia,
+                    translation,
+                    rotation,
+                }
+            })
+            .collect()
+    }
+
+    /// Stresses (Pa, global Voigt `[sxx, syy, szz, sxy, syz, szx]`) at the
+    /// nodes, on the bottom (`t = -1`), middle and top surfaces, of
+    /// `columns` displacement fields one after the other in `u_e`: entry
+    /// `(3 j + layer) n + a`. In-plane stresses from the strains at the
+    /// in-plane rule's points, extrapolated to the nodes; transverse shear
+    /// parabolic through the thickness, zero on the faces and 3/2 of the
+    /// mean on the middle surface.
+    pub fn stresses(
+        &self,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        u_e: &[f64],
+        columns: usize,
+    ) -> Vec<[f64; 6]> {
+        let nn = self.nodes();
+        let nd = 6 * nn;
+        let d = Elasticity::new(youngs_modulus, poisson_ratio);
+        let rule = surface::rule(self.kind);
+        let weights = surface::extrapolation(self.kind);
+        let layers = [-1.0, 0.0, 1.0];
+        // The strain rows and frames at each layer and point.
+        let at: Vec<Vec<(Point, [Row; 5])>> = layers
+            .iter()
+            .map(|&t| {
+                rule.iter()
+                    .map(|(rs, _)| self.local_strains(*rs, t))
+                    .collect()
+            })
+            .collect();
+        let mut out = Vec::with_capacity(3 * nn * columns);
+        for u in u_e.chunks_exact(nd).take(columns) {
+            let strain = |rows: &[Row; 5]| -> [f64; 5] {
+                rows.map(|row| row[..nd].iter().zip(u).map(|(b, x)| b * x).sum())
+            };
+            // Mean transverse shear stresses at each point.
+            let shear: Vec<[f64; 2]> = at[1]
+                .iter()
+                .map(|(_, rows)| {
+                    let e = strain(rows);
+                    [d.shear_stiffness * e[3], d.shear_stiffness * e[4]]
+                })
+                .collect();
+            for (layer, points) in at.iter().enumerate() {
+                let factor = if layer == 1 { 1.5 } else { 0.0 };
+                let global: Vec<[f64; 6]> = points
+                    .iter()
+                    .zip(&shear)
+                    .map(|((p, rows), tau)| {
+                        let e = strain(rows);
+                        let s11 = d.plane * (e[0] + d.nu * e[1]);
+                        let s22 = d.plane * (e[1] + d.nu * e[0]);
+                        let s12 = d.shear * e[2];
+                        let local = [
+                            [s11, s12, factor * tau[0]],
+                            [s12, s22, factor * tau[1]],
+                            [factor * tau[0], factor * tau[1], 0.0],
+                        ];
+                        to_global(&local, &p.frame)
+                    })
+                    .collect();
+                out.extend(weights.iter().take(nn).map(|w| {
+                    let mut s = [0.0; 6];
+                    for (wp, sp) in w.iter().zip(&global) {
+                        for (si, v) in s.iter_mut().zip(sp) {
+                            *si += wp * v;
+                        }
+                    }
+                    s
+                }));
+            }
+        }
+        out
+    }
+}
+
+/// The plane-stress elasticity of the shell's layers and its transverse
+/// shear stiffness.
+struct Elasticity {
+    /// `E / (1 - nu^2)`.
+    plane: f64,
+    nu: f64,
+    /// `G`.
+    shear: f64,
+    /// `k G` (k the shear correction factor).
+    shear_stiffness: f64,
+}
+
+impl Elasticity {
+    fn new(e: f64, nu: f64) -> Self {
+        let shear = e / (2.0 * (1.0 + nu));
+        Self {
+            plane: e / (1.0 - nu * nu),
+            nu,
+            shear,
+            shear_stiffness: SHEAR_FACTOR * shear,
+        }
+    }
+
+    /// `D B` for the strain rows `[e11, e22, g12, g13, g23]`.
+    fn apply(&self, rows: &[Row; 5], nd: usize) -> [Row; 5] {
+        let mut out = [ZERO_ROW; 5];
+        for j in 0..nd {
+            let (a, b) = (rows[0][j], rows[1][j]);
+            out[0][j] = self.plane * (a + self.nu * b);
+            out[1][j] = self.plane * (b + self.nu * a);
+            out[2][j] = self.shear * rows[2][j];
+            out[3][j] = self.shear_stiffness * rows[3][j];
+            out[4][j] = self.shear_stiffness * rows[4][j];
+        }
+        out
+    }
+}
+
+/// `sum_k factor_k row_k`.
+fn combine(terms: &[(f64, &Row)]) -> Row {
+    let mut out = ZERO_ROW;
+    for (f, row) in terms {
+        for (o, v) in out.iter_mut().zip(row.iter()) {
+            *o += f * v;
+        }
+    }
+    out
+}
+
+/// Adds `w sum_k left_k^T right_k` to the upper triangle of `k` (row-major,
+/// `nd` square).
+fn add_products(k: &mut [f64], nd: usize, left: &[Row], right: &[Row], w: f64) {
+    for (l, r) in left.iter().zip(right) {
+        for i in 0..nd {
+            let li = w * l[i];
+            if li == 0.0 {
+                continue;
+            }
+            for j in i..nd {
+                k[i * nd + j] += li * r[j];
+            }
+        }
+    }
+}
+
+/// The symmetric matrix of an upper triangle (row-major).
+fn symmetric(nd: usize, upper: &[f64]) -> Mat<f64> {
+    Mat::from_fn(nd, nd, |r, c| upper[r.min(c) * nd + r.max(c)])
+}
+
+/// `sigma_global = R sigma_local R^T`, `R` the frame's vectors as columns,
+/// in Voigt order.
+fn to_global(local: &[[f64; 3]; 3], frame: &[[f64; 3]; 3]) -> [f64; 6] {
+    let s = |i: usize, j: usize| -> f64 {
+        let mut v = 0.0;
+        for (k, ek) in frame.iter().enumerate() {
+            for (l, el) in frame.iter().enumerate() {
+                v += ek[i] * local[k][l] * el[j];
+            }
+        }
+        v
+    };
+    [s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(1, 2), s(2, 0)]
+}
+
+pub(super) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(super) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+pub(super) fn unit(a: [f64; 3]) -> [f64; 3] {
+    let l = norm(a);
+    a.map(|v| v / l)
+}
+
+/// The mass matrix the points hold: `sum_g m_g U^T U + Theta^T J_g Theta`.
+pub(super) fn mass_matrix(points: &[MassPoint], nd: usize) -> Mat<f64> {
+    let mut m = Mat::<f64>::zeros(nd, nd);
+    for p in points {
+        let j = Mat::from_fn(3, 3, |r, c| p.inertia[r][c]);
+        m += p.mass * p.translation.transpose() * &p.translation;
+        m += p.rotation.transpose() * &j * &p.rotation;
+    }
+    flexbody_linalg::sparse::symmetrize(&mut m);
+    m
+}

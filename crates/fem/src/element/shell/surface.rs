@@ -1,0 +1,176 @@
+//! The shell's reference surface in natural coordinates: shape functions,
+//! the in-plane integration rules, and the extrapolation from the rule's
+//! points to the nodes.
+
+use super::ShellKind;
+
+/// Largest number of nodes of a shell element.
+pub(super) const MAX_NODES: usize = 4;
+
+/// Largest number of in-plane integration points.
+pub(super) const MAX_POINTS: usize = 4;
+
+/// `1 / sqrt(3)`: the two-point Gauss abscissa.
+const G2: f64 = 0.577_350_269_189_625_8;
+
+/// Shape functions `n` and their derivatives `dn[a] = [dN_a/dr, dN_a/ds]`
+/// at `(r, s)`. S4: the bilinear quadrilateral on `[-1, 1]^2`, nodes at
+/// `(-1, -1), (1, -1), (1, 1), (-1, 1)`; S3: the linear triangle, nodes at
+/// `(0, 0), (1, 0), (0, 1)`.
+pub(super) fn evaluate(
+    kind: ShellKind,
+    [r, s]: [f64; 2],
+    n: &mut [f64; MAX_NODES],
+    dn: &mut [[f64; 2]; MAX_NODES],
+) {
+    match kind {
+        ShellKind::S4 => {
+            for (a, [ra, sa]) in QUAD_NODES.iter().enumerate() {
+                n[a] = 0.25 * (1.0 + ra * r) * (1.0 + sa * s);
+                dn[a] = [0.25 * ra * (1.0 + sa * s), 0.25 * sa * (1.0 + ra * r)];
+            }
+        }
+        ShellKind::S3 => {
+            n[..3].copy_from_slice(&[1.0 - r - s, r, s]);
+            dn[..3].copy_from_slice(&[[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]);
+        }
+    }
+}
+
+const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+const TRIANGLE_NODES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+
+/// The nodes' natural coordinates.
+pub(super) fn node_coordinates(kind: ShellKind) -> &'static [[f64; 2]] {
+    match kind {
+        ShellKind::S4 => &QUAD_NODES,
+        ShellKind::S3 => &TRIANGLE_NODES,
+    }
+}
+
+/// The in-plane rule of stiffness, mass and stresses: 2 x 2 Gauss points
+/// for S4 (in the order of the nodes they are nearest), the three-point
+/// interior rule for S3 (exact for quadratics); weights sum to the area
+/// of the natural element (4 and 1/2).
+pub(super) fn rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
+    match kind {
+        ShellKind::S4 => &[
+            ([-G2, -G2], 1.0),
+            ([G2, -G2], 1.0),
+            ([G2, G2], 1.0),
+            ([-G2, G2], 1.0),
+        ],
+        ShellKind::S3 => &[
+            ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
+            ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
+            ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
+        ],
+    }
+}
+
+/// Two-point Gauss rule through the thickness, `t` in `[-1, 1]`: exact for
+/// the quadratic variation of a flat shell's strain energy.
+pub(super) const THICKNESS_RULE: [(f64, f64); 2] = [(-G2, 1.0), (G2, 1.0)];
+
+/// The weights that carry values at the points of [`rule`] to the nodes:
+/// `value(node a) = sum_p weights[a][p] value(point p)`, by the bilinear
+/// (S4) or linear (S3) polynomial through the points. Exact for values
+/// that polynomial holds (a constant, a linear field).
+pub(super) fn extrapolation(kind: ShellKind) -> [[f64; MAX_POINTS]; MAX_NODES] {
+    let basis = |[r, s]: [f64; 2]| -> [f64; MAX_POINTS] {
+        match kind {
+            ShellKind::S4 => [1.0, r, s, r * s],
+            ShellKind::S3 => [1.0, r, s, 0.0],
+        }
+    };
+    let points = rule(kind);
+    let np = points.len();
+    // P[p][q] = basis_q(point p); weights[a] = basis(node a) P^-1.
+    let mut p = [[0.0; MAX_POINTS]; MAX_POINTS];
+    for (row, (xi, _)) in p.iter_mut().zip(points) {
+        *row = basis(*xi);
+    }
+    let inverse = invert(&p, np);
+    let mut out = [[0.0; MAX_POINTS]; MAX_NODES];
+    for (w, xi) in out.iter_mut().zip(node_coordinates(kind)) {
+        let b = basis(*xi);
+        for (q, wq) in w.iter_mut().enumerate().take(np) {
+            *wq = (0..np).map(|k| b[k] * inverse[k][q]).sum();
+        }
+    }
+    out
+}
+
+/// The inverse of the leading `n x n` block of `a` by Gauss-Jordan
+/// elimination with partial pivoting (the small, well-conditioned
+/// matrices of [`extrapolation`]).
+fn invert(a: &[[f64; MAX_POINTS]; MAX_POINTS], n: usize) -> [[f64; MAX_POINTS]; MAX_POINTS] {
+    let mut m = *a;
+    let mut inv = [[0.0; MAX_POINTS]; MAX_POINTS];
+    for (i, row) in inv.iter_mut().enumerate().take(n) {
+        row[i] = 1.0;
+    }
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))
+            .unwrap_or(col);
+        m.swap(col, pivot);
+        inv.swap(col, pivot);
+        let d = m[col][col];
+        for k in 0..n {
+            m[col][k] /= d;
+            inv[col][k] /= d;
+        }
+        for row in 0..n {
+            if row != col {
+                let f = m[row][col];
+                for k in 0..n {
+                    m[row][k] -= f * m[col][k];
+                    inv[row][k] -= f * inv[col][k];
+                }
+            }
+        }
+    }
+    inv
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shape_functions_are_a_partition_of_unity_and_interpolate_the_nodes() {
+        for kind in ShellKind::ALL {
+            let (mut n, mut dn) = ([0.0; MAX_NODES], [[0.0; 2]; MAX_NODES]);
+            for (a, xi) in node_coordinates(kind).iter().enumerate() {
+                evaluate(kind, *xi, &mut n, &mut dn);
+                for (b, nb) in n.iter().enumerate().take(kind.node_count()) {
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    assert!((nb - want).abs() < 1e-15, "{kind:?} N{b} at node {a}");
+                }
+            }
+            evaluate(kind, [0.2, 0.3], &mut n, &mut dn);
+            let nn = kind.node_count();
+            assert!((n[..nn].iter().sum::<f64>() - 1.0).abs() < 1e-15);
+            for d in 0..2 {
+                assert!(dn[..nn].iter().map(|g| g[d]).sum::<f64>().abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn extrapolation_reproduces_a_linear_field_at_the_nodes() {
+        for kind in ShellKind::ALL {
+            let field = |[r, s]: [f64; 2]| 3.0 - 2.0 * r + 0.5 * s;
+            let w = extrapolation(kind);
+            for (a, xi) in node_coordinates(kind).iter().enumerate() {
+                let at: f64 = rule(kind)
+                    .iter()
+                    .enumerate()
+                    .map(|(p, (x, _))| w[a][p] * field(*x))
+                    .sum();
+                assert!((at - field(*xi)).abs() < 1e-13, "{kind:?} node {a}: {at}");
+            }
+        }
+    }
+}
