@@ -115,8 +115,8 @@ pub fn body_nodes(
 /// The SID of `body`, reduced from `sub`: its floating frame (elastic
 /// coordinates and mass invariants from the mass matrix and node
 /// coordinates of `sub`) and, if `model` (the mesh) is known, its recovery
-/// rows `ksigma` in the elastic coordinates (stresses of solids, else
-/// section forces of beams).
+/// rows `ksigma` in the elastic coordinates (stresses of solids and
+/// shells, else section forces of beams).
 pub fn sid(
     sub: &Substructure,
     model: Option<&Model>,
@@ -191,7 +191,7 @@ pub fn mbdyn(
 
 /// The VTU file's fields of `body` on its mesh `model`: the eigenmodes of
 /// the reduced body (`K_red x = w^2 M_red x`, shapes `T x`, M-normalised)
-/// and their stresses averaged at the solids' nodes.
+/// and their stresses averaged at the nodes of solids and shells.
 pub fn mode_fields(model: &Model, body: &ReducedBody) -> Result<ModeFields, OutputError> {
     check_mesh(model, body)?;
     let modes = body.orthonormalized().map_err(OutputError::Modes)?;
@@ -199,6 +199,7 @@ pub fn mode_fields(model: &Model, body: &ReducedBody) -> Result<ModeFields, Outp
     Ok(ModeFields {
         modes,
         stress_nodes: stress.nodes,
+        stress_layers: stress.layers,
         stress: stress.matrices,
     })
 }

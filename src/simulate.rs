@@ -40,7 +40,7 @@ pub enum HistoryKind {
     EndShear,
     /// Bending moment `My` at an element's end (N m).
     EndMoment,
-    /// Von Mises stress at a solid node (Pa).
+    /// Von Mises stress at a node of a solid (or on a shell's surface) (Pa).
     VonMises,
 }
 
@@ -430,9 +430,10 @@ pub fn coupled_modes(
     Ok(damped_modes(&file.system(body))?)
 }
 
-/// Von Mises histories at solid nodes: for a reduced body from the modal
-/// stress matrices (`sigma = T_sigma q`, eq. 25 for solids), for the full
-/// model from the displacements.
+/// Von Mises histories at the nodes of solids (and shells, one column per
+/// surface): for a reduced body from the modal stress matrices (`sigma =
+/// T_sigma q`, eq. 25 for solids), for the full model from the
+/// displacements.
 fn stress_histories(
     file: &ModelFile,
     body: FlexibleBody<'_>,
@@ -444,29 +445,32 @@ fn stress_histories(
         FlexibleBody::Reduced(b) => Some(crate::recover::ModalStress::new(&file.model, b)?),
         FlexibleBody::Full { .. } => None,
     };
-    let mut columns: Vec<(String, Vec<f64>)> = nodes
-        .iter()
-        .map(|id| {
-            (
-                format!("node {id} von Mises (Pa)"),
-                Vec::with_capacity(r.states.len()),
-            )
-        })
-        .collect();
-    for s in &r.states {
+    let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
+    // The stress points of the recorded nodes, found at the first state.
+    let mut points: Vec<usize> = Vec::new();
+    for (step, s) in r.states.iter().enumerate() {
         let q = &s.x[..n];
         let stresses = match &modal {
             Some(m) => m.stresses(q),
             None => crate::recover::nodal_stresses(&file.model, &body.displacements(q))?,
         };
+        if step == 0 {
+            for id in nodes {
+                for (i, (node, layer)) in stresses.nodes.iter().zip(&stresses.layers).enumerate() {
+                    if node == id {
+                        let name = match layer.name() {
+                            "" => format!("node {id} von Mises (Pa)"),
+                            l => format!("node {id} {l} von Mises (Pa)"),
+                        };
+                        points.push(i);
+                        columns.push((name, Vec::with_capacity(r.states.len())));
+                    }
+                }
+            }
+        }
         let vm = stresses.von_mises();
-        for (k, id) in nodes.iter().enumerate() {
-            let v = stresses
-                .nodes
-                .iter()
-                .position(|x| x == id)
-                .map_or(0.0, |i| vm[i]);
-            columns[k].1.push(v);
+        for (column, &i) in columns.iter_mut().zip(&points) {
+            column.1.push(vm[i]);
         }
     }
     Ok(columns)

@@ -8,8 +8,9 @@
 //! - `err_force`: the connection (interface) forces;
 //! - beams: `err_m`, `err_q`: bending moment My and shear force Qz at the
 //!   element ends;
-//! - solids: `err_vm`: von Mises stress (of the in-phase part) at the most
-//!   stressed nodes, those where the reference reaches half its peak.
+//! - solids and shells: `err_vm`: von Mises stress (of the in-phase part)
+//!   at the most stressed points (nodes; a shell's on each surface), those
+//!   where the reference reaches half its peak.
 
 use crate::fem::FemError;
 use crate::fem::{DofKind, Substructure};
@@ -63,8 +64,9 @@ pub struct BeamResponse {
     pub q: Field,
     /// Connection force amplitudes (N), (re, im).
     pub forces: Vec<(f64, f64)>,
-    /// Von Mises stress (Pa) of the in-phase part at the solid nodes (node
-    /// ids in `stress_nodes`); empty without solids.
+    /// Von Mises stress (Pa) of the in-phase part at the stress points:
+    /// the nodes of solids, and of shells on each surface (node ids in
+    /// `stress_nodes`); empty without either.
     pub von_mises: Vec<f64>,
     pub stress_nodes: Vec<u64>,
 }
@@ -92,7 +94,8 @@ impl BeamResponse {
     }
 
     /// Relative error of von Mises at the most stressed nodes of the
-    /// reference (where it reaches half its peak); `None` without solids.
+    /// reference (where it reaches half its peak); `None` without solids
+    /// or shells.
     pub fn von_mises_error(&self, reference: &BeamResponse) -> Option<f64> {
         let peak = reference
             .von_mises
@@ -139,7 +142,7 @@ pub struct CaseRow {
     pub err_q: Option<f64>,
     /// Connection (interface) forces.
     pub err_force: f64,
-    /// Von Mises at the most stressed nodes (solid models).
+    /// Von Mises at the most stressed nodes (models with solids or shells).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub err_vm: Option<f64>,
 }
@@ -471,8 +474,8 @@ pub fn respond(
         }
         f
     };
-    let has_solids = model.elements().iter().any(|e| e.has_stresses());
-    let (von_mises, stress_nodes) = if has_solids {
+    let has_stresses = model.elements().iter().any(|e| e.has_stresses());
+    let (von_mises, stress_nodes) = if has_stresses {
         let s = crate::recover::nodal_stresses(model, u_re)?;
         (s.von_mises(), s.nodes)
     } else {

@@ -88,7 +88,8 @@ class Body:
         """The floating-frame description (the SID's content); needs the
         model the body was reduced from."""
     def recovery(self) -> F64:
-        """Stress (solids) or section-force (beams) rows over q; needs the mesh."""
+        """Stress (solids; shells per surface) or section-force (beams) rows
+        over q; needs the mesh."""
     def write(self, path: str, format: str = "json") -> None:
         """Writes json, sid, mtx (a folder) or mbdyn, atomically."""
 

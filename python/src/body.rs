@@ -238,8 +238,9 @@ impl Body {
         Ok(d)
     }
 
-    /// The recovery rows over q (rows x r): for solids 6 stresses (Pa,
-    /// Voigt xx, yy, zz, xy, yz, zx) per node, for beams 12 section forces
+    /// The recovery rows over q (rows x r): for solids and shells 6
+    /// stresses (Pa, Voigt xx, yy, zz, xy, yz, zx) per node (a shell's per
+    /// node and surface: bottom, middle, top), for beams 12 section forces
     /// per element (N, Qy, Qz, T, My, Mz at start, then end); the mesh is
     /// needed.
     fn recovery<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {

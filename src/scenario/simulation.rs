@@ -89,7 +89,7 @@ pub(super) fn simulation(
 }
 
 /// Recorded elements have section forces (beams) and recorded nodes are
-/// nodes of elements with stresses (solids).
+/// nodes of elements with stresses (solids, shells).
 fn check_records(r: &RawSimulation, model: &Model) -> Result<(), String> {
     for e in &r.record {
         match model.elements().iter().find(|x| x.id() == *e) {

@@ -31,6 +31,7 @@ mod model_files;
 mod plots;
 mod report_html;
 mod section_forces;
+mod shells;
 mod sid;
 mod sid_dialects;
 mod strict_toml;

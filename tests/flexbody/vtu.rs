@@ -183,9 +183,51 @@ fn both_vtu(
     (binary, ascii)
 }
 
-/// The hex beam deck (solids: stresses) and the side beam (beams:
-/// rotations), each written both ways into `dir`.
+/// A steel plate 0.4 x 0.2 m, 2 mm thick, of 4 x 2 cells in the x-y
+/// plane, clamped along x = 0: S4 cells, the last column cut into S3
+/// pairs. Written as `dir/shell_plate.inp`.
+fn shell_plate_deck(dir: &Path) -> PathBuf {
+    let (nx, ny) = (4, 2);
+    let id = |i: usize, j: usize| 1 + i + (nx + 1) * j;
+    let mut text = String::from("*NODE, NSET=ALL\n");
+    for j in 0..=ny {
+        for i in 0..=nx {
+            text += &format!("{}, {}, {}, 0.\n", id(i, j), 0.1 * i as f64, 0.1 * j as f64);
+        }
+    }
+    let (mut quads, mut tris) = (String::new(), String::new());
+    let mut e = 0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if i + 1 < nx {
+                e += 1;
+                quads += &format!("{e}, {a}, {b}, {c}, {d}\n");
+            } else {
+                e += 1;
+                tris += &format!("{e}, {a}, {b}, {c}\n");
+                e += 1;
+                tris += &format!("{e}, {a}, {c}, {d}\n");
+            }
+        }
+    }
+    text +=
+        &format!("*ELEMENT, TYPE=S4, ELSET=PLATE\n{quads}*ELEMENT, TYPE=S3, ELSET=PLATE\n{tris}");
+    text += "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n";
+    text += "*SHELL SECTION, ELSET=PLATE, MATERIAL=STEEL\n0.002\n*BOUNDARY\n";
+    for j in 0..=ny {
+        text += &format!("{}, 1, 6\n", id(0, j));
+    }
+    let path = dir.join("shell_plate.inp");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The hex beam deck (solids: stresses), the side beam (beams: rotations)
+/// and a shell plate (stresses on three surfaces, rotations), each written
+/// both ways into `dir`.
 fn both_models(dir: &Path) -> Vec<(PathBuf, PathBuf)> {
+    let plate = shell_plate_deck(dir);
     vec![
         both_vtu(
             dir,
@@ -195,6 +237,7 @@ fn both_models(dir: &Path) -> Vec<(PathBuf, PathBuf)> {
             &["--interface", "13"],
         ),
         both_vtu(dir, &super::side_beam_path(), "free", "4", &[]),
+        both_vtu(dir, &plate, "free", "6", &[]),
     ]
 }
 
@@ -248,6 +291,32 @@ fn binary_vtu_decodes_to_the_ascii_arrays() {
     assert_eq!(b["types"].values, Numbers::Integers(types));
     assert_eq!(b["mode 01"].components, 3);
     assert_eq!(b["mode 01 stress"].components, 6);
+    // The shell plate: quadrilateral and triangle cells, rotations, and
+    // stresses on the bottom, middle and top surfaces, which bending makes
+    // opposite on the two faces.
+    let p = binary_arrays(&dir.path().join("shell_plate.vtu"));
+    let Numbers::Integers(types) = &p["types"].values else {
+        panic!("cell types are integers")
+    };
+    assert_eq!(types.iter().filter(|&&t| t == 9).count(), 6);
+    assert_eq!(types.iter().filter(|&&t| t == 5).count(), 4);
+    assert!(!p.contains_key("mode 01 stress"));
+    for layer in ["bottom", "middle", "top"] {
+        assert_eq!(p[&format!("mode 01 stress {layer}")].components, 6);
+        assert_eq!(p[&format!("mode 01 von Mises {layer}")].components, 1);
+    }
+    let reals = |name: &str| match &p[name].values {
+        Numbers::Reals(v) => v.clone(),
+        _ => panic!("{name} holds reals"),
+    };
+    let (top, bottom) = (reals("mode 01 stress top"), reals("mode 01 stress bottom"));
+    let largest = top.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    assert!(largest > 0.0);
+    // The first mode bends the plate: sxx on the faces opposite, to the
+    // membrane part, which is small.
+    for (t, b) in top.iter().zip(&bottom).step_by(6) {
+        assert!((t + b).abs() < 1e-6 * largest, "top {t}, bottom {b}");
+    }
 }
 
 /// meshio, an independent reader, reads the binary file (appended raw,

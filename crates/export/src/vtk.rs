@@ -5,7 +5,8 @@
 //! Cells: each element's own ([`Element::vtk_cell`]): solids as VTK
 //! hexahedra (C3D8, C3D8I: 12), quadratic hexahedra (C3D20, C3D20R: 25),
 //! tetrahedra (C3D4: 10), quadratic tetrahedra (C3D10: 24), wedges (C3D6:
-//! 13) and quadratic wedges (C3D15: 26); beams and two-node springs as
+//! 13) and quadratic wedges (C3D15: 26); shells as quadrilaterals (S4: 9)
+//! and triangles (S3: 5); beams and two-node springs as
 //! lines (3); point masses and grounded springs as vertices (1). The Abaqus
 //! node order is VTK's for all kinds except the wedges, whose triangles VTK
 //! orders the other way round (`[0, 2, 1, 3, 5, 4]`, and the mid-edge
@@ -16,7 +17,8 @@
 //! per unit modal coordinate), `mode kk rotation` (rad, models with
 //! rotation DOFs), and for solids `mode kk stress` (6 components, Voigt
 //! `sxx syy szz sxy syz szx`, Pa) and `mode kk von Mises` (Pa), averaged at
-//! the nodes; `node id` (Int64) gives each point's node number. Field data
+//! the nodes; for shells the same on each surface, `mode kk stress top`,
+//! `... middle`, `... bottom` and their von Mises; `node id` (Int64) gives each point's node number. Field data
 //! `frequencies_hz` lists the modes' frequencies.
 //! Nodes without a DOF or stress get zeros. The modes and their stresses
 //! come computed, as [`ModeFields`]. A non-finite value is refused, naming
@@ -25,6 +27,7 @@
 use crate::vtu::{Cells, DataArray, Encoding, Section, UnstructuredGrid, Values};
 use crate::{write_atomically, ExportError};
 use faer::Mat;
+use flexbody_fem::element::StressLayer;
 use flexbody_fem::{Dof, DofKind, Element, Model, NodeId};
 use flexbody_reduce::ReducedBody;
 use std::collections::HashMap;
@@ -53,10 +56,15 @@ pub struct ModeFields {
     /// k of the basis is mode k, M-normalised, and `modes[k]` carries its
     /// frequency.
     pub modes: ReducedBody,
-    /// The nodes with stresses (those of solids), ascending.
+    /// The stress points: nodes with stresses (those of solids and shells),
+    /// ascending, one entry per layer at the node.
     pub stress_nodes: Vec<NodeId>,
-    /// Per node of `stress_nodes`, the 6 x r modal stresses (Voigt `sxx syy
-    /// szz sxy syz szx`, Pa per unit modal coordinate), averaged at the node.
+    /// The layer of each entry of `stress_nodes`: a solid's volume, or a
+    /// shell's bottom, middle or top surface.
+    pub stress_layers: Vec<StressLayer>,
+    /// Per entry of `stress_nodes`, the 6 x r modal stresses (Voigt `sxx
+    /// syy szz sxy syz szx`, Pa per unit modal coordinate), averaged at the
+    /// node.
     pub stress: Vec<Mat<f64>>,
 }
 
@@ -114,10 +122,25 @@ pub fn vtu_grid(model: &Model, fields: &ModeFields) -> Result<UnstructuredGrid, 
         1,
         Values::Int64(nodes.iter().map(|n| n.id as i64).collect()),
     )];
-    // (The modal stresses' nodes ascend.)
-    let stress_rows: Vec<Option<usize>> = nodes
+    // Per layer present, the row of each point's node (the modal stresses'
+    // points ascend by node, then layer).
+    let mut layers: Vec<StressLayer> = fields.stress_layers.clone();
+    layers.sort_unstable();
+    layers.dedup();
+    let stress_rows: Vec<(StressLayer, Vec<Option<usize>>)> = layers
         .iter()
-        .map(|n| fields.stress_nodes.binary_search(&n.id).ok())
+        .map(|&layer| {
+            let rows = nodes
+                .iter()
+                .map(|n| {
+                    let at = fields.stress_nodes.partition_point(|&m| m < n.id);
+                    (at..fields.stress_nodes.len())
+                        .take_while(|&i| fields.stress_nodes[i] == n.id)
+                        .find(|&i| fields.stress_layers[i] == layer)
+                })
+                .collect();
+            (layer, rows)
+        })
         .collect();
     for k in 0..r {
         let name = format!("mode {:02}", k + 1);
@@ -132,8 +155,8 @@ pub fn vtu_grid(model: &Model, fields: &ModeFields) -> Result<UnstructuredGrid, 
         if has_rotations {
             point_data.push(DataArray::new(format!("{name} rotation"), 3, field(3)));
         }
-        if !fields.stress_nodes.is_empty() {
-            let sigma: Vec<[f64; 6]> = stress_rows
+        for (layer, rows) in &stress_rows {
+            let sigma: Vec<[f64; 6]> = rows
                 .iter()
                 .map(|row| {
                     row.map_or([0.0; 6], |i| {
@@ -144,13 +167,17 @@ pub fn vtu_grid(model: &Model, fields: &ModeFields) -> Result<UnstructuredGrid, 
                 .collect();
             let von_mises: Vec<f64> = sigma.iter().map(flexbody_fem::element::von_mises).collect();
             let flat: Vec<f64> = sigma.into_iter().flatten().collect();
+            let suffix = match layer.name() {
+                "" => String::new(),
+                l => format!(" {l}"),
+            };
             point_data.push(DataArray::new(
-                format!("{name} stress"),
+                format!("{name} stress{suffix}"),
                 6,
                 Values::Float64(flat),
             ));
             point_data.push(DataArray::new(
-                format!("{name} von Mises"),
+                format!("{name} von Mises{suffix}"),
                 1,
                 Values::Float64(von_mises),
             ));

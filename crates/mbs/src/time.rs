@@ -460,12 +460,19 @@ pub fn simulate(
             state.x.len()
         )));
     }
+    // At rest under no force (the default start, with the excitation
+    // ramped from zero) the acceleration is zero, also where M is singular
+    // (massless DOFs: a shell's rotation about its normal).
     let r0 = eq.residual_force(&state.x, &state.v, 0.0);
-    state.a = solve(
-        &eq.lin.mass,
-        &r0.iter().map(|v| -v).collect::<Vec<_>>(),
-        0.0,
-    )?;
+    if r0.iter().any(|v| *v != 0.0) {
+        state.a = solve(
+            &eq.lin.mass,
+            &r0.iter().map(|v| -v).collect::<Vec<_>>(),
+            0.0,
+        )?;
+    } else {
+        state.a = vec![0.0; n];
+    }
 
     let alpha = settings.alpha;
     let gamma = 0.5 - alpha;

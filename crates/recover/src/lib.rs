@@ -169,8 +169,9 @@ impl ModalRecovery {
 }
 
 /// The recovery matrix of `body` on `model`, one column per basis vector:
-/// the modal stresses of the solids if the model has any (6 rows per solid
-/// node, Voigt `sxx syy szz sxy syz szx`, Pa, nodes ascending, as in
+/// the modal stresses of the solids and shells if the model has any (6
+/// rows per stress point: a solid's node, a shell's node on each surface;
+/// Voigt `sxx syy szz sxy syz szx`, Pa, nodes ascending, as in
 /// [`ModalStress`]), else the section forces of the beams (12 rows per
 /// element, `N Qy Qz T My Mz` at start then end: `S_K = K_e T_e` of
 /// [`ModalRecovery`]). No rows for a model with neither.

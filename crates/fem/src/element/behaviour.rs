@@ -89,16 +89,25 @@ pub trait ElementBehaviour {
         Ok(None)
     }
 
-    /// True if [`Self::stresses`] gives stresses (solids).
+    /// True if [`Self::stresses`] gives stresses (solids, shells).
     fn has_stresses(&self) -> bool {
         false
     }
 
-    /// Stresses at the element's nodes (Pa, Voigt `[sxx, syy, szz, sxy,
-    /// syz, szx]`) of `columns` displacement fields given one after the
-    /// other in `u_e` (each in the order of [`Self::dofs`]): entry `j n +
-    /// a` is node `a`'s stress in field `j`, `n` the node count. `None` for
-    /// elements without stresses (the default).
+    /// The layers [`Self::stresses`] gives at each node: one value through
+    /// the volume (solids, the default), or the bottom, middle and top
+    /// surfaces (shells).
+    fn stress_layers(&self) -> &'static [StressLayer] {
+        &[StressLayer::Volume]
+    }
+
+    /// Stresses at the element's nodes (Pa, global Voigt `[sxx, syy, szz,
+    /// sxy, syz, szx]`) of `columns` displacement fields given one after
+    /// the other in `u_e` (each in the order of [`Self::dofs`]): entry
+    /// `(j L + l) n + a` is node `a`'s stress on layer `l` of
+    /// [`Self::stress_layers`] in field `j`, `n` the node count and `L` the
+    /// number of layers. `None` for elements without stresses (the
+    /// default).
     fn stresses(
         &self,
         _model: &Model,
@@ -111,6 +120,30 @@ pub trait ElementBehaviour {
     /// The VTK cell that draws the element, `None` for none (the default).
     fn vtk_cell(&self) -> Option<VtkCell> {
         None
+    }
+}
+
+/// Where at a node an element gives its stress: through the volume (a
+/// solid's one value per node) or on a shell's bottom (`-n/2` along its
+/// normal), middle or top surface. Ordered as listed.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum StressLayer {
+    Volume,
+    Bottom,
+    Middle,
+    Top,
+}
+
+impl StressLayer {
+    /// `""` for the volume, else `"bottom"`, `"middle"`, `"top"`: the suffix
+    /// of a stress's name in outputs.
+    pub const fn name(self) -> &'static str {
+        match self {
+            StressLayer::Volume => "",
+            StressLayer::Bottom => "bottom",
+            StressLayer::Middle => "middle",
+            StressLayer::Top => "top",
+        }
     }
 }
 

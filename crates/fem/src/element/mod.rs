@@ -22,7 +22,7 @@ pub mod solid;
 pub mod spring;
 
 pub use beam::Beam;
-pub use behaviour::{ElementBehaviour, VtkCell};
+pub use behaviour::{ElementBehaviour, StressLayer, VtkCell};
 pub use dashpot::{AxialDashpot, Dashpot};
 pub use mass_distribution::{MassDistribution, MassPoint};
 pub use planar_beam::PlanarBeam;
@@ -205,12 +205,18 @@ impl Element {
         self.behaviour().section_forces(model, u_e, a_e)
     }
 
-    /// True if the element has stresses (solids).
+    /// True if the element has stresses (solids, shells).
     pub fn has_stresses(&self) -> bool {
         self.behaviour().has_stresses()
     }
 
-    /// Nodal stresses of `columns` displacement fields (solids only;
+    /// The layers of [`Self::stresses`] at each node
+    /// ([`ElementBehaviour::stress_layers`]).
+    pub fn stress_layers(&self) -> &'static [StressLayer] {
+        self.behaviour().stress_layers()
+    }
+
+    /// Nodal stresses of `columns` displacement fields (solids and shells;
     /// `None` otherwise), as [`ElementBehaviour::stresses`].
     pub fn stresses(
         &self,

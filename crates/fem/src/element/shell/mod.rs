@@ -53,7 +53,7 @@ mod mitc;
 mod surface;
 
 use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell};
-use super::{Element, ElementType, MassDistribution, SectionKind, SectionValues};
+use super::{Element, ElementType, MassDistribution, SectionKind, SectionValues, StressLayer};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::section::Material;
@@ -214,6 +214,25 @@ impl ElementBehaviour for Shell {
             0.0 => MassDistribution::None,
             rho => MassDistribution::Points(geometry.mass_points(rho)),
         })
+    }
+
+    fn has_stresses(&self) -> bool {
+        true
+    }
+
+    fn stress_layers(&self) -> &'static [StressLayer] {
+        &[StressLayer::Bottom, StressLayer::Middle, StressLayer::Top]
+    }
+
+    /// [`Shell::surface_stresses`] at the element's coordinates.
+    fn stresses(
+        &self,
+        model: &Model,
+        u_e: &[f64],
+        columns: usize,
+    ) -> Result<Option<Vec<[f64; 6]>>, FemError> {
+        let coords = element_coords(model, &self.nodes);
+        self.surface_stresses(&coords, u_e, columns).map(Some)
     }
 
     fn vtk_cell(&self) -> Option<VtkCell> {

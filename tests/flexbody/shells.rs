@@ -1,0 +1,214 @@
+//! A model of shells end to end: the report's side beam as S4 shells on
+//! its box section (`examples/side_beam_shell.toml`), with the seats as
+//! RBE2/RBE3 interface points: the report's study findings on the shell
+//! mesh, its von Mises stresses on each surface in time from the Ritz
+//! coordinates against the full mesh, and its mass against the section's.
+
+use super::support::{max_difference, unit_translation};
+use flexbody::fem::{DofKind, Substructure};
+use flexbody::linalg::memory::Budget;
+use flexbody::linalg::progress::NoProgress;
+use flexbody::mbs::FlexibleBody;
+use flexbody::reduce::Method;
+use flexbody::scenario::read_model_file;
+use flexbody::study::run_study;
+use std::path::PathBuf;
+
+const STATIC: f64 = 2.0 * std::f64::consts::PI * 0.001;
+
+fn shell_side_beam() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/side_beam_shell.toml")
+}
+
+#[test]
+fn shell_side_beam_has_the_box_sections_mass() {
+    // Shells on the mid-surfaces hold rho t P L, P = 2 (0.228 + 0.188) m
+    // the mid-surface perimeter (the solid section's area less t^2 at
+    // the corners, which the walls' mid-surfaces do not reach).
+    let file = read_model_file(&shell_side_beam()).unwrap();
+    let sub = Substructure::from_model(&file.model).unwrap();
+    let ux = unit_translation(&sub, DofKind::Ux);
+    let m = &sub.matrices.mass;
+    let x = faer::Mat::from_fn(ux.len(), 1, |i, _| ux[i]);
+    let mass = (x.transpose() * (m * &x))[(0, 0)];
+    let want = 6800.0 * 0.012 * 2.0 * (0.228 + 0.188) * 2.5;
+    assert!((mass - want).abs() < 1e-9 * want, "{mass} against {want}");
+}
+
+#[test]
+fn the_reports_findings_hold_on_the_shell_side_beam() {
+    let file = read_model_file(&shell_side_beam()).unwrap();
+    let rows = run_study(&file, Budget::MACHINE, &NoProgress)
+        .unwrap()
+        .rows();
+    let statically = |method: Method| {
+        rows.iter()
+            .filter(move |c| c.method == method && c.omega == STATIC)
+    };
+    // Free-residual and Craig-Bampton hold the static response exactly,
+    // shell stresses included (measured: von Mises 3e-10 to 1.8e-9).
+    for method in [Method::FreeResidual, Method::CraigBampton] {
+        for c in statically(method) {
+            assert!(
+                c.err_w < 1e-8 && c.err_force < 1e-8 && c.err_vm.unwrap() < 1e-8,
+                "{c:?}"
+            );
+        }
+    }
+    // Free-interface modes alone do not (measured 0.86, 0.39, 0.098).
+    for c in statically(Method::Free) {
+        assert!(c.err_vm.unwrap() > 5e-2, "{c:?}");
+    }
+}
+
+#[test]
+fn shell_stress_histories_of_reduced_and_full_models_agree_on_each_surface() {
+    let file = read_model_file(&shell_side_beam()).unwrap();
+    let sub = Substructure::from_model(&file.model).unwrap();
+    let spec = file.simulation.as_ref().unwrap();
+    let body = flexbody::simulate::simulation_body(&file, &sub, spec, Budget::MACHINE, &NoProgress)
+        .unwrap();
+    let red = flexbody::simulate::run_simulation(&file, FlexibleBody::Reduced(&body)).unwrap();
+    let full = flexbody::simulate::run_simulation(
+        &file,
+        FlexibleBody::Full {
+            dof_map: &sub.dof_map,
+            matrices: &sub.matrices,
+        },
+    )
+    .unwrap();
+    assert!(red.times == full.times);
+    for node in [53, 221] {
+        assert!(red.column(&format!("node {node} von Mises (Pa)")).is_none());
+        for layer in ["bottom", "middle", "top"] {
+            let name = format!("node {node} {layer} von Mises (Pa)");
+            let (a, b) = (red.column(&name).unwrap(), full.column(&name).unwrap());
+            let peak = b.iter().fold(0.0_f64, |m, v| m.max(*v));
+            assert!(peak > 1e6, "the flange is loaded: {peak}");
+            let err = max_difference(a, b) / peak;
+            // measured 1.4e-6 to 6.0e-6
+            assert!(err < 1.5e-5, "node {node} {layer}: {err:e}");
+        }
+    }
+}
+
+/// A free body of three kinds of element: a C3D8 block (0.1 m cube), a
+/// shell strip (S4, 4 mm) on the block's mid-plane z = 0.05 from its face
+/// x = 0.1 to x = 0.5, joined to that face by kinematic couplings (the
+/// face nodes of each row follow the strip's edge node of that row
+/// rigidly), and a B31
+/// beam from the strip's far middle node to x = 0.8 (a shared node, six
+/// DOFs both).
+fn mixed_deck() -> String {
+    let mut t = String::from("*NODE\n");
+    // Block nodes 1..27: 3 x 3 x 3 grid over the cube.
+    let mut id = 0;
+    for k in 0..3 {
+        for j in 0..3 {
+            for i in 0..3 {
+                id += 1;
+                t += &format!(
+                    "{id}, {}, {}, {}\n",
+                    0.05 * i as f64,
+                    0.05 * j as f64,
+                    0.05 * k as f64
+                );
+            }
+        }
+    }
+    let node = |i: usize, j: usize, k: usize| 1 + i + 3 * j + 9 * k;
+    // Strip nodes 101.. : 5 columns (x = 0.1 .. 0.5) by 3 rows (y = 0, 0.05, 0.1).
+    let strip = |c: usize, r: usize| 101 + c + 5 * r;
+    for r in 0..3 {
+        for c in 0..5 {
+            t += &format!(
+                "{}, {}, {}, 0.05\n",
+                strip(c, r),
+                0.1 + 0.1 * c as f64,
+                0.05 * r as f64
+            );
+        }
+    }
+    t += "201, 0.65, 0.05, 0.05\n202, 0.8, 0.05, 0.05\n";
+    t += "*ELEMENT, TYPE=C3D8, ELSET=BLOCK\n";
+    let mut e = 0;
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..2 {
+                e += 1;
+                t += &format!(
+                    "{e}, {}, {}, {}, {}, {}, {}, {}, {}\n",
+                    node(i, j, k),
+                    node(i + 1, j, k),
+                    node(i + 1, j + 1, k),
+                    node(i, j + 1, k),
+                    node(i, j, k + 1),
+                    node(i + 1, j, k + 1),
+                    node(i + 1, j + 1, k + 1),
+                    node(i, j + 1, k + 1)
+                );
+            }
+        }
+    }
+    t += "*ELEMENT, TYPE=S4, ELSET=STRIP\n";
+    for r in 0..2 {
+        for c in 0..4 {
+            e += 1;
+            t += &format!(
+                "{e}, {}, {}, {}, {}\n",
+                strip(c, r),
+                strip(c + 1, r),
+                strip(c + 1, r + 1),
+                strip(c, r + 1)
+            );
+        }
+    }
+    t += &format!(
+        "*ELEMENT, TYPE=B31, ELSET=ARM\n{}, {}, 201\n{}, 201, 202\n",
+        e + 1,
+        strip(4, 1),
+        e + 2
+    );
+    // The block's face nodes x = 0.1 of row r (in y), all heights, follow
+    // the strip's edge node of that row as a rigid link (RBE2, DOFs 1-6).
+    for r in 0..3 {
+        let face: Vec<String> = (0..3).map(|k| node(2, r, k).to_string()).collect();
+        t += &format!(
+            "*NSET, NSET=FACE{r}\n{}\n*SURFACE, NAME=S{r}, TYPE=NODE\nFACE{r}\n\
+             *COUPLING, REF NODE={}, SURFACE=S{r}, CONSTRAINT NAME=JOINT{r}\n*KINEMATIC\n1, 6\n",
+            face.join(", "),
+            strip(0, r)
+        );
+    }
+    t += "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n";
+    t += "*SOLID SECTION, ELSET=BLOCK, MATERIAL=STEEL\n";
+    t += "*SHELL SECTION, ELSET=STRIP, MATERIAL=STEEL\n0.004\n";
+    t += "*BEAM SECTION, ELSET=ARM, MATERIAL=STEEL, SECTION=CIRC\n0.01\n0., 0., -1.\n";
+    t
+}
+
+#[test]
+fn solids_shells_and_beams_assemble_into_one_free_body() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("mixed.inp");
+    std::fs::write(&deck, mixed_deck()).unwrap();
+    let o = super::support::run_ok(&["modes", deck.to_str().unwrap(), "--count", "10", "--json"]);
+    let doc = super::support::stdout_json(&o);
+    let f: Vec<f64> = doc["frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    // Six rigid-body modes and no mechanism: the joints hold every part.
+    assert!(f[..6].iter().all(|x| x.abs() < 1e-2), "{f:?}");
+    assert!(f[6] > 5.0, "{f:?}");
+    // The mass of the parts: the block, the strip, the arm.
+    let model = flexbody::input::load(&deck, &Default::default()).unwrap();
+    let sub = &model.sub;
+    let ux = unit_translation(sub, DofKind::Ux);
+    let x = faer::Mat::from_fn(ux.len(), 1, |i, _| ux[i]);
+    let mass = (x.transpose() * (&sub.matrices.mass * &x))[(0, 0)];
+    let want = 7850.0 * (0.1f64.powi(3) + 0.4 * 0.1 * 0.004 + 0.3 * std::f64::consts::PI * 1e-4);
+    assert!((mass - want).abs() < 1e-9 * want, "{mass} against {want}");
+}
