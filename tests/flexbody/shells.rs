@@ -212,3 +212,122 @@ fn solids_shells_and_beams_assemble_into_one_free_body() {
     let want = 7850.0 * (0.1f64.powi(3) + 0.4 * 0.1 * 0.004 + 0.3 * std::f64::consts::PI * 1e-4);
     assert!((mass - want).abs() < 1e-9 * want, "{mass} against {want}");
 }
+
+/// The shell strip of [`mixed_deck`] alone, clamped at x = 0.1: as a deck,
+/// and as a model file's own `[[element]] type = "shell"` tables.
+fn strip_as_deck_and_model_file(dir: &std::path::Path) -> (PathBuf, PathBuf) {
+    let strip = |c: usize, r: usize| 101 + c + 5 * r;
+    let mut nodes = Vec::new();
+    for r in 0..3 {
+        for c in 0..5 {
+            nodes.push((strip(c, r), 0.1 + 0.1 * c as f64, 0.05 * r as f64));
+        }
+    }
+    let mut cells = Vec::new();
+    for r in 0..2 {
+        for c in 0..4 {
+            let q = [
+                strip(c, r),
+                strip(c + 1, r),
+                strip(c + 1, r + 1),
+                strip(c, r + 1),
+            ];
+            if c < 3 {
+                cells.push(q.to_vec());
+            } else {
+                cells.push(vec![q[0], q[1], q[2]]);
+                cells.push(vec![q[0], q[2], q[3]]);
+            }
+        }
+    }
+    let mut deck = String::from("*NODE\n");
+    for (id, x, y) in &nodes {
+        deck += &format!("{id}, {x}, {y}, 0.05\n");
+    }
+    for (e, cell) in cells.iter().enumerate() {
+        let kind = if cell.len() == 4 { "S4" } else { "S3" };
+        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
+        deck += &format!(
+            "*ELEMENT, TYPE={kind}, ELSET=STRIP\n{}, {}\n",
+            e + 1,
+            list.join(", ")
+        );
+    }
+    deck += "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n";
+    deck += "*SHELL SECTION, ELSET=STRIP, MATERIAL=STEEL, OFFSET=0.25\n0.004\n*BOUNDARY\n";
+    for r in 0..3 {
+        deck += &format!("{}, 1, 6\n", strip(0, r));
+    }
+    let listed: Vec<String> = nodes
+        .iter()
+        .map(|(id, x, y)| format!("[{id}, {x}, {y}, 0.05]"))
+        .collect();
+    let mut toml = format!(
+        "nodes = [{}]\n\n[[material]]\nname = \"steel\"\nyoungs_modulus = 2.1e11\n\
+         poisson_ratio = 0.3\ndensity = 7850.0\n",
+        listed.join(", ")
+    );
+    for (e, cell) in cells.iter().enumerate() {
+        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
+        toml += &format!(
+            "\n[[element]]\ntype = \"shell\"\nid = {}\nnodes = [{}]\nmaterial = \"steel\"\nthickness = 0.004\noffset = 0.25\n",
+            e + 1,
+            list.join(", ")
+        );
+    }
+    for r in 0..3 {
+        toml += &format!(
+            "\n[[boundary]]\nnode = {}\ndofs = [\"ux\", \"uy\", \"uz\", \"rx\", \"ry\", \"rz\"]\n",
+            strip(0, r)
+        );
+    }
+    let (d, t) = (dir.join("strip.inp"), dir.join("strip.toml"));
+    std::fs::write(&d, deck).unwrap();
+    std::fs::write(&t, toml).unwrap();
+    (d, t)
+}
+
+#[test]
+fn shells_in_a_model_files_tables_are_the_decks_shells() {
+    let dir = tempfile::tempdir().unwrap();
+    let (deck, toml) = strip_as_deck_and_model_file(dir.path());
+    let a = flexbody::input::load(&deck, &Default::default()).unwrap();
+    let b = flexbody::input::load(&toml, &Default::default()).unwrap();
+    assert_eq!(a.sub.dof_map.dofs(), b.sub.dof_map.dofs());
+    assert_eq!(
+        a.sub.matrices.stiffness.to_dense(),
+        b.sub.matrices.stiffness.to_dense()
+    );
+    assert_eq!(
+        a.sub.matrices.mass.to_dense(),
+        b.sub.matrices.mass.to_dense()
+    );
+    // A shell of five nodes and one without thickness name the element and
+    // the line.
+    let text = std::fs::read_to_string(&toml).unwrap();
+    for (from, to, words) in [
+        (
+            "nodes = [101, 102, 107, 106]",
+            "nodes = [101, 102, 107, 106, 103]",
+            ["shell 1", "5 nodes"],
+        ),
+        (
+            "thickness = 0.004\noffset = 0.25\n\n[[element]]\ntype = \"shell\"\nid = 2",
+            "thickness = 0.0\noffset = 0.25\n\n[[element]]\ntype = \"shell\"\nid = 2",
+            ["shell 1", "thickness"],
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = dir.path().join("bad.toml");
+        std::fs::write(&bad, text.replacen(from, to, 1)).unwrap();
+        let err = flexbody::input::load(&bad, &Default::default())
+            .unwrap_err()
+            .to_string();
+        for w in words {
+            assert!(
+                err.contains(w) && err.contains("bad.toml:"),
+                "'{w}' in {err}"
+            );
+        }
+    }
+}

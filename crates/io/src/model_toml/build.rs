@@ -17,7 +17,7 @@ use crate::deck::{
     Catalogue, DeckOptions, MaterialEntry, SectionEntry, SurfaceFaces, UnknownKeywords,
 };
 use crate::{InputError, TomlSource};
-use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Spring};
+use flexbody_fem::element::{Beam, PlanarBeam, PointMass, Shell, ShellKind, Spring};
 use flexbody_fem::section::SectionConstants;
 use flexbody_fem::{
     BeamProperties, BeamTheory, Coupling, Dof, Element, Equation, FemError, Material, Model, Node,
@@ -364,7 +364,7 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// `[[element]]`: single beams, point masses and springs.
+    /// `[[element]]`: single beams, shells, point masses and springs.
     fn elements(&mut self, raw: &RawModel, known: &HashSet<u64>) -> Result<(), InputError> {
         for e in &raw.element {
             let offset = e.span().start;
@@ -405,6 +405,40 @@ impl<'a> Builder<'a> {
                     )?,
                     orientation: *orientation,
                 }),
+                RawElement::Shell {
+                    id,
+                    nodes,
+                    material,
+                    thickness,
+                    offset: shell_offset,
+                } => {
+                    let kind = match nodes.len() {
+                        3 => ShellKind::S3,
+                        4 => ShellKind::S4,
+                        n => {
+                            return Err(self.src.error(
+                                Some(offset),
+                                format!("shell {id} has {n} nodes; an S3 has 3, an S4 4"),
+                            ))
+                        }
+                    };
+                    flexbody_fem::require_positive(format!("thickness of shell {id}"), *thickness)
+                        .map_err(|x| self.src.error(Some(offset), x.to_string()))?;
+                    let m = self.materials.get(material).ok_or_else(|| {
+                        self.src.error(
+                            Some(offset),
+                            format!("shell {id}: material '{material}' is not defined"),
+                        )
+                    })?;
+                    Element::Shell(Shell {
+                        id: *id,
+                        kind,
+                        nodes: nodes.clone(),
+                        material: m.clone(),
+                        thickness: *thickness,
+                        offset: *shell_offset,
+                    })
+                }
                 RawElement::PointMass {
                     id,
                     node,

@@ -166,6 +166,17 @@ pub(crate) enum RawElement {
         rotary_inertia: Option<bool>,
         orientation: [f64; 3],
     },
+    /// An S3 or S4 shell: three or four nodes, a material and a thickness
+    /// (m), the nodes `offset` thicknesses from the mid-surface (Abaqus'
+    /// `OFFSET=`, default 0).
+    Shell {
+        id: usize,
+        nodes: Vec<u64>,
+        material: String,
+        thickness: f64,
+        #[serde(default)]
+        offset: f64,
+    },
     PointMass {
         id: usize,
         node: u64,
