@@ -87,7 +87,7 @@ element_kinds! {
     AxialDashpot(AxialDashpot),
     /// Solid element (C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15).
     Solid(Solid),
-    /// Shell element, 6 DOFs per node (S3, S4).
+    /// Shell element, 6 DOFs per node (S3, S4, S6).
     Shell(Shell),
 }
 

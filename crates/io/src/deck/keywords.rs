@@ -53,10 +53,10 @@ fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
         "C3D8R" | "C3D8RH" => " (reduced integration needs hourglass control; use C3D8 or C3D20R)",
         "B32" | "B32R" | "B31R" => " (use B31)",
-        "S6" | "S8" | "S8R" | "S4R5" | "S8R5" | "S9R5" => {
-            " (quadratic shells are not implemented yet; S3 and S4 are)"
+        "S8" | "S8R" | "S4R5" | "S8R5" | "S9R5" => {
+            " (quadrilateral quadratic shells are not implemented yet; S3, S4 and S6 are)"
         }
-        _ if t.starts_with('S') => " (flexbody's shells are S3 and S4 (S3R, S4R))",
+        _ if t.starts_with('S') => " (flexbody's shells are S3, S4 and S6 (S3R, S4R))",
         _ if t.starts_with('M') => " (membranes are not implemented)",
         _ if t.starts_with("CP") || t.starts_with("CAX") => {
             " (plane and axisymmetric elements are not implemented)"

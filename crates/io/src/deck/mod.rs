@@ -16,7 +16,7 @@
 //! | keyword | reading |
 //! | --- | --- |
 //! | `*NODE` (`NSET=`) | `id, x, y, z`; missing coordinates are 0 |
-//! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15 (solids), S3, S4 (shells), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2, DASHPOTA, DASHPOT1, DASHPOT2; any other type is an error |
+//! | `*ELEMENT, TYPE=, ELSET=` | the types of [`ELEMENT_TYPES`](flexbody_fem::element::ELEMENT_TYPES): C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15 (solids), S3, S4, S6 (shells), B31 (Timoshenko beam), MASS, SPRINGA, SPRING1, SPRING2, DASHPOTA, DASHPOT1, DASHPOT2; any other type is an error |
 //! | `*NSET`, `*ELSET` | ids, names of sets defined before, or `GENERATE` (`first, last[, step]`) |
 //! | `*MATERIAL, NAME=` + `*ELASTIC` + `*DENSITY` | `*ELASTIC, TYPE=` ISO (`E, nu`), ORTHO, ENGINEERING CONSTANTS, ANISO (solids only; see `elasticity.rs`); several records make a temperature table, read at the uniform `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (linear, constant beyond the ends; without one the first record, as CalculiX); a material used without `*DENSITY` is an error (the mass matrix needs it); a `C` that is not positive definite is an error at its line |
 //! | `*DAMPING, ALPHA=, BETA=` (in a `*MATERIAL`) | Rayleigh damping of the material, as Abaqus reads it: each of its elements adds `alpha M_e + beta K_e` to D; materials damped differently get a warning (CalculiX 2.20 applies the `*DAMPING` read last to the whole model); `STRUCTURAL=` (hysteretic, a complex stiffness), `COMPOSITE=`, negative values and a data line are errors |

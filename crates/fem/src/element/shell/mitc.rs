@@ -154,6 +154,9 @@ impl Geometry {
                 let st = combine(&[(0.5 * (1.0 + r), &d), (0.5 * (1.0 - r), &b)]);
                 [rt, st]
             }
+            // The quadratic triangle takes its shear where it integrates
+            // it, at the reduced rule's points.
+            ShellKind::S6 => [at([r, s], 0), at([r, s], 1)],
             ShellKind::S3 => {
                 let rt1 = at([0.5, 0.0], 0);
                 let st2 = at([0.0, 0.5], 1);
@@ -248,6 +251,8 @@ impl Geometry {
                 let stressed = d.apply(&rows, nd);
                 add_products(&mut k, nd, &rows, &stressed, wd);
             }
+        }
+        for (rs, w) in surface::full_rule(self.kind) {
             let (p, row) = self.drilling(*rs);
             let area = norm(cross(p.g[0], p.g[1]));
             let penalty = DRILLING * d.shear * self.thickness * w * area;
@@ -261,7 +266,7 @@ impl Geometry {
     pub fn mass_points(&self, density: f64) -> Vec<MassPoint> {
         let nd = 6 * self.nodes();
         let a = self.thickness;
-        surface::rule(self.kind)
+        surface::full_rule(self.kind)
             .iter()
             .map(|(rs, w)| {
                 let p = self.point(*rs, 0.0);

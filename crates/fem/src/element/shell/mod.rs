@@ -1,6 +1,7 @@
 //! Shell elements with six DOFs per node (`ux uy uz rx ry rz`): the MITC
 //! shells of Dvorkin and Bathe (S4, four nodes) and of Lee and Bathe (S3,
-//! three nodes), in the node numbering of Abaqus/CalculiX.
+//! three nodes), and the quadratic (curved) triangle S6, in the node
+//! numbering of Abaqus/CalculiX.
 //!
 //! **Kinematics.** A degenerated continuum over the reference surface
 //! through the nodes: the point at natural coordinates `(r, s)` and
@@ -19,21 +20,23 @@
 //! their values at tying points on the edges, which removes shear locking
 //! (MITC4: `e_rt` from the edge midpoints `s = +-1`, `e_st` from `r = +-1`;
 //! MITC3: the three edge midpoints with the rotated component of Lee and
-//! Bathe, 2004). They are turned onto a local Cartesian frame (`e1` along
+//! Bathe, 2004); S6 takes all its strains at the three interior points of
+//! its (reduced) rule. They are turned onto a local Cartesian frame (`e1` along
 //! `g_r`, `e3` normal to the surface) and meet a plane-stress material
 //! (`sigma_33 = 0`) with transverse shear stiffness `k G`, `k = 5/6`.
 //! Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in the plane (S4) or
-//! three (S3), two through the thickness (exact for a flat shell).
+//! three (S3, S6), two through the thickness (exact for a flat shell).
 //!
 //! **Drilling.** The rotation about the normal has no stiffness in the
 //! continuum; a penalty `gamma (theta_n - w)^2 / 2` per area ties it to the
-//! membrane's rotation `w = (du2/dx1 - du1/dx2) / 2` at the in-plane
-//! points (Hughes and Brezzi), with `gamma = 1e-3 G a`: zero for a rigid
+//! membrane's rotation `w = (du2/dx1 - du1/dx2) / 2` at the points of the
+//! mass rule (Hughes and Brezzi), with `gamma = 1e-3 G a`: zero for a rigid
 //! motion, so it adds no energy to rigid-body modes, and it stiffens every
 //! drilling rotation, so that an element has no zero-energy mode besides
 //! the six rigid-body modes.
 //!
-//! **Mass.** Consistent, with rotary inertia: at each in-plane point a
+//! **Mass.** Consistent, with rotary inertia (2 x 2 points for S4, 3 for
+//! S3, 6 for S6): at each point a
 //! rigid slice through the thickness of mass `rho a dA` at the mid-surface
 //! and rotary inertia `rho a^3 / 12 dA` about the in-plane axes, moving
 //! with the interpolated displacement and rotation of that point (its
@@ -77,17 +80,20 @@ pub enum ShellKind {
     S3,
     /// 4-node quadrilateral, MITC4.
     S4,
+    /// 6-node triangle, quadratic, three-point integration.
+    S6,
 }
 
 impl ShellKind {
     /// All kinds.
-    pub const ALL: [ShellKind; 2] = [ShellKind::S3, ShellKind::S4];
+    pub const ALL: [ShellKind; 3] = [ShellKind::S3, ShellKind::S4, ShellKind::S6];
 
     /// Number of nodes.
     pub const fn node_count(self) -> usize {
         match self {
             ShellKind::S3 => 3,
             ShellKind::S4 => 4,
+            ShellKind::S6 => 6,
         }
     }
 
@@ -96,15 +102,22 @@ impl ShellKind {
         match self {
             ShellKind::S3 => "S3",
             ShellKind::S4 => "S4",
+            ShellKind::S6 => "S6",
         }
     }
 
-    /// The VTK cell: triangle (5) or quadrilateral (9), in the element's
-    /// node order.
+    /// True for the quadratic (curved) kinds.
+    pub const fn is_quadratic(self) -> bool {
+        matches!(self, ShellKind::S6)
+    }
+
+    /// The VTK cell: triangle (5), quadrilateral (9), quadratic triangle
+    /// (22), in the element's node order (VTK's for all three).
     pub const fn vtk_cell(self) -> VtkCell {
         match self {
             ShellKind::S3 => VtkCell::in_order(5, 3),
             ShellKind::S4 => VtkCell::in_order(9, 4),
+            ShellKind::S6 => VtkCell::in_order(22, 6),
         }
     }
 
@@ -122,6 +135,14 @@ impl ShellKind {
                     [1.0, -1.0, 0.0],
                     [1.0, 1.0, 0.0],
                     [-1.0, 1.0, 0.0],
+                ],
+                ShellKind::S6 => &[
+                    [0.0, 0.0, 0.0],
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [0.5, 0.0, 0.0],
+                    [0.5, 0.5, 0.0],
+                    [0.0, 0.5, 0.0],
                 ],
             },
             build,
@@ -161,6 +182,7 @@ type BuildFn = fn(usize, &[NodeId], &SectionValues) -> Result<Element, FemError>
 pub(super) const ELEMENT_TYPES: &[ElementType] = &[
     ShellKind::S3.element_type(|id, nodes, s| ShellKind::S3.build(id, nodes, s)),
     ShellKind::S4.element_type(|id, nodes, s| ShellKind::S4.build(id, nodes, s)),
+    ShellKind::S6.element_type(|id, nodes, s| ShellKind::S6.build(id, nodes, s)),
 ];
 
 /// A shell element.
@@ -317,7 +339,7 @@ impl Shell {
         // The mean normal: of the diagonals (S4) or the two edges (S3).
         let mean = match kind {
             ShellKind::S4 => cross(sub(rel[2], rel[0]), sub(rel[3], rel[1])),
-            ShellKind::S3 => cross(rel[1], rel[2]),
+            ShellKind::S3 | ShellKind::S6 => cross(rel[1], rel[2]),
         };
         let area = norm(mean);
         if area.is_nan() || area <= ZERO_AREA * size * size {
@@ -362,7 +384,8 @@ impl Shell {
                 )));
             }
         }
-        for (p, (rs, _)) in surface::rule(kind).iter().enumerate() {
+        let points = surface::rule(kind).iter().chain(surface::full_rule(kind));
+        for (p, (rs, _)) in points.enumerate() {
             for (t, _) in surface::THICKNESS_RULE {
                 let det = geometry.point(*rs, t).det_j;
                 if det.is_nan() || det <= 0.0 {

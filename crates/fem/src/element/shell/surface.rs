@@ -1,22 +1,25 @@
 //! The shell's reference surface in natural coordinates: shape functions,
-//! the in-plane integration rules, and the extrapolation from the rule's
-//! points to the nodes.
+//! the in-plane integration rules (of stiffness, of mass, of the drilling
+//! penalty), and the extrapolation from the stiffness rule's points to the
+//! nodes.
 
 use super::ShellKind;
 
 /// Largest number of nodes of a shell element.
-pub(super) const MAX_NODES: usize = 4;
+pub(super) const MAX_NODES: usize = 6;
 
-/// Largest number of in-plane integration points.
+/// Largest number of points of a stiffness rule.
 pub(super) const MAX_POINTS: usize = 4;
 
 /// `1 / sqrt(3)`: the two-point Gauss abscissa.
 const G2: f64 = 0.577_350_269_189_625_8;
 
 /// Shape functions `n` and their derivatives `dn[a] = [dN_a/dr, dN_a/ds]`
-/// at `(r, s)`. S4: the bilinear quadrilateral on `[-1, 1]^2`, nodes at
-/// `(-1, -1), (1, -1), (1, 1), (-1, 1)`; S3: the linear triangle, nodes at
-/// `(0, 0), (1, 0), (0, 1)`.
+/// at `(r, s)`, in the Abaqus node order. S4: the bilinear quadrilateral on
+/// `[-1, 1]^2`, corners `(-1, -1), (1, -1), (1, 1), (-1, 1)`; S3: the linear
+/// triangle, corners `(0, 0), (1, 0), (0, 1)`; S6: the quadratic triangle,
+/// those corners and then the mid-side nodes `(1/2, 0), (1/2, 1/2), (0,
+/// 1/2)`.
 pub(super) fn evaluate(
     kind: ShellKind,
     [r, s]: [f64; 2],
@@ -34,37 +37,97 @@ pub(super) fn evaluate(
             n[..3].copy_from_slice(&[1.0 - r - s, r, s]);
             dn[..3].copy_from_slice(&[[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]);
         }
+        ShellKind::S6 => {
+            let l = 1.0 - r - s;
+            n[..6].copy_from_slice(&[
+                l * (2.0 * l - 1.0),
+                r * (2.0 * r - 1.0),
+                s * (2.0 * s - 1.0),
+                4.0 * l * r,
+                4.0 * r * s,
+                4.0 * s * l,
+            ]);
+            dn[..6].copy_from_slice(&[
+                [1.0 - 4.0 * l, 1.0 - 4.0 * l],
+                [4.0 * r - 1.0, 0.0],
+                [0.0, 4.0 * s - 1.0],
+                [4.0 * (l - r), -4.0 * r],
+                [4.0 * s, 4.0 * r],
+                [-4.0 * s, 4.0 * (l - s)],
+            ]);
+        }
     }
 }
 
 const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
-const TRIANGLE_NODES: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+const TRIANGLE_NODES: [[f64; 2]; 6] = [
+    [0.0, 0.0],
+    [1.0, 0.0],
+    [0.0, 1.0],
+    [0.5, 0.0],
+    [0.5, 0.5],
+    [0.0, 0.5],
+];
 
 /// The nodes' natural coordinates.
 pub(super) fn node_coordinates(kind: ShellKind) -> &'static [[f64; 2]] {
     match kind {
         ShellKind::S4 => &QUAD_NODES,
-        ShellKind::S3 => &TRIANGLE_NODES,
+        ShellKind::S3 => &TRIANGLE_NODES[..3],
+        ShellKind::S6 => &TRIANGLE_NODES,
     }
 }
 
-/// The in-plane rule of stiffness, mass and stresses: 2 x 2 Gauss points
-/// for S4 (in the order of the nodes they are nearest), the three-point
-/// interior rule for S3 (exact for quadratics); weights sum to the area
-/// of the natural element (4 and 1/2).
+const GAUSS_2X2: [([f64; 2], f64); 4] = [
+    ([-G2, -G2], 1.0),
+    ([G2, -G2], 1.0),
+    ([G2, G2], 1.0),
+    ([-G2, G2], 1.0),
+];
+
+/// The interior three-point triangle rule (exact for quadratics).
+const TRIANGLE_3: [([f64; 2], f64); 3] = [
+    ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
+    ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
+    ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
+];
+
+/// The six-point triangle rule of Strang and Fix (exact for quartics).
+const TRIANGLE_6: [([f64; 2], f64); 6] = {
+    const A: f64 = 0.445_948_490_915_965;
+    const B: f64 = 0.091_576_213_509_771;
+    const WA: f64 = 0.223_381_589_678_011 / 2.0;
+    const WB: f64 = 0.109_951_743_655_322 / 2.0;
+    [
+        ([A, A], WA),
+        ([1.0 - 2.0 * A, A], WA),
+        ([A, 1.0 - 2.0 * A], WA),
+        ([B, B], WB),
+        ([1.0 - 2.0 * B, B], WB),
+        ([B, 1.0 - 2.0 * B], WB),
+    ]
+};
+
+/// The in-plane rule of the stiffness and the stresses: 2 x 2 Gauss points
+/// for S4 (in the order of the corners they are nearest), the three-point
+/// interior rule for S3 and S6 (reduced for S6); weights sum to the area of
+/// the natural element (4 and 1/2).
 pub(super) fn rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
-        ShellKind::S4 => &[
-            ([-G2, -G2], 1.0),
-            ([G2, -G2], 1.0),
-            ([G2, G2], 1.0),
-            ([-G2, G2], 1.0),
-        ],
-        ShellKind::S3 => &[
-            ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
-            ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
-            ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
-        ],
+        ShellKind::S4 => &GAUSS_2X2,
+        ShellKind::S3 | ShellKind::S6 => &TRIANGLE_3,
+    }
+}
+
+/// The in-plane rule of the mass and of the drilling penalty: exact for
+/// products of two shape functions on an undistorted element (S4: 2 x 2,
+/// S3: 3 points, S6: 6 points), and with at least as many points as nodes,
+/// so that the penalty holds every node's rotation about the normal.
+pub(super) fn full_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
+    match kind {
+        ShellKind::S4 => &GAUSS_2X2,
+        ShellKind::S3 => &TRIANGLE_3,
+        ShellKind::S6 => &TRIANGLE_6,
     }
 }
 
@@ -74,13 +137,13 @@ pub(super) const THICKNESS_RULE: [(f64, f64); 2] = [(-G2, 1.0), (G2, 1.0)];
 
 /// The weights that carry values at the points of [`rule`] to the nodes:
 /// `value(node a) = sum_p weights[a][p] value(point p)`, by the bilinear
-/// (S4) or linear (S3) polynomial through the points. Exact for values
+/// (S4) or linear (S3, S6) polynomial through the points. Exact for values
 /// that polynomial holds (a constant, a linear field).
 pub(super) fn extrapolation(kind: ShellKind) -> [[f64; MAX_POINTS]; MAX_NODES] {
     let basis = |[r, s]: [f64; 2]| -> [f64; MAX_POINTS] {
         match kind {
             ShellKind::S4 => [1.0, r, s, r * s],
-            ShellKind::S3 => [1.0, r, s, 0.0],
+            ShellKind::S3 | ShellKind::S6 => [1.0, r, s, 0.0],
         }
     };
     let points = rule(kind);
@@ -156,6 +219,21 @@ mod tests {
                 assert!(dn[..nn].iter().map(|g| g[d]).sum::<f64>().abs() < 1e-15);
             }
         }
+    }
+
+    #[test]
+    fn rules_integrate_what_they_promise() {
+        // Area, and the product of two shape functions' highest terms: r^2
+        // s^2 (S4) and degree 4 on the triangle (S6).
+        let quad = |f: &dyn Fn(f64, f64) -> f64, rule: &[([f64; 2], f64)]| -> f64 {
+            rule.iter().map(|([r, s], w)| w * f(*r, *s)).sum()
+        };
+        assert!((quad(&|r, s| r * r * s * s, &GAUSS_2X2) - 4.0 / 9.0).abs() < 1e-14);
+        // int_T r^a s^b = a! b! / (a + b + 2)!.
+        assert!((quad(&|_, _| 1.0, &TRIANGLE_6) - 0.5).abs() < 1e-14);
+        assert!((quad(&|r, s| r * r * s * s, &TRIANGLE_6) - 4.0 / 720.0).abs() < 1e-14);
+        assert!((quad(&|r, _| r.powi(4), &TRIANGLE_6) - 24.0 / 720.0).abs() < 1e-14);
+        assert!((quad(&|r, s| r * s, &TRIANGLE_3) - 1.0 / 24.0).abs() < 1e-15);
     }
 
     #[test]

@@ -21,6 +21,35 @@ fn skew_triangle() -> Vec<[f64; 3]> {
     vec![[10.0, 5.0, 1.0], [10.9, 5.3, 1.2], [10.2, 5.9, 0.8]]
 }
 
+/// [`skew_triangle`] with mid-side nodes lifted off its edges (a curved S6).
+fn curved_triangle6() -> Vec<[f64; 3]> {
+    with_midsides(&skew_triangle(), &[0.02, -0.03, 0.01])
+}
+
+/// The corners and, per edge, its midpoint lifted by `lift` along z.
+fn with_midsides(corners: &[[f64; 3]], lift: &[f64]) -> Vec<[f64; 3]> {
+    let n = corners.len();
+    let mut x = corners.to_vec();
+    for (k, l) in lift.iter().enumerate() {
+        let (a, b) = (corners[k], corners[(k + 1) % n]);
+        x.push([
+            0.5 * (a[0] + b[0]),
+            0.5 * (a[1] + b[1]),
+            0.5 * (a[2] + b[2]) + l,
+        ]);
+    }
+    x
+}
+
+/// Every kind on a distorted element: warped, skew, curved.
+fn distorted() -> [(ShellKind, Vec<[f64; 3]>); 3] {
+    [
+        (ShellKind::S4, warped_quad()),
+        (ShellKind::S3, skew_triangle()),
+        (ShellKind::S6, curved_triangle6()),
+    ]
+}
+
 fn shell(kind: ShellKind, thickness: f64, offset: f64) -> Shell {
     Shell {
         id: 7,
@@ -56,10 +85,7 @@ fn rigid_motions(coords: &[[f64; 3]]) -> Vec<Vec<f64>> {
 
 #[test]
 fn rigid_motions_strain_nothing_on_warped_and_offset_elements() {
-    for (kind, coords) in [
-        (ShellKind::S4, warped_quad()),
-        (ShellKind::S3, skew_triangle()),
-    ] {
+    for (kind, coords) in distorted() {
         for offset in [0.0, 0.5, -0.3] {
             let e = shell(kind, 0.05, offset);
             let k = e.matrices(&coords).unwrap().stiffness;
@@ -78,10 +104,7 @@ fn rigid_motions_strain_nothing_on_warped_and_offset_elements() {
 
 #[test]
 fn one_element_has_six_zero_energy_modes_and_no_spurious_one() {
-    for (kind, coords) in [
-        (ShellKind::S4, warped_quad()),
-        (ShellKind::S3, skew_triangle()),
-    ] {
+    for (kind, coords) in distorted() {
         let k = shell(kind, 0.05, 0.0).matrices(&coords).unwrap().stiffness;
         let values = k.self_adjoint_eigenvalues(faer::Side::Lower).unwrap();
         let largest = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
@@ -143,13 +166,34 @@ fn patch(kind: ShellKind) -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
         [3, 0, 4, 7],
         [4, 5, 6, 7],
     ];
-    let cells = match kind {
+    let linear: Vec<Vec<usize>> = match kind {
         ShellKind::S4 => quads.iter().map(|q| q.to_vec()).collect(),
-        ShellKind::S3 => quads
+        ShellKind::S3 | ShellKind::S6 => quads
             .iter()
             .flat_map(|q| [vec![q[0], q[1], q[2]], vec![q[0], q[2], q[3]]])
             .collect(),
     };
+    if !kind.is_quadratic() {
+        return (coords, linear);
+    }
+    // Mid-side nodes at the middle of each (straight) edge, shared.
+    let mut coords = coords;
+    let mut midsides: std::collections::HashMap<(usize, usize), usize> = Default::default();
+    let cells = linear
+        .iter()
+        .map(|c| {
+            let mut cell = c.clone();
+            for k in 0..c.len() {
+                let (a, b) = (c[k], c[(k + 1) % c.len()]);
+                let m = *midsides.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    coords.push(std::array::from_fn(|i| 0.5 * (coords[a][i] + coords[b][i])));
+                    coords.len() - 1
+                });
+                cell.push(m);
+            }
+            cell
+        })
+        .collect();
     (coords, cells)
 }
 
@@ -181,9 +225,23 @@ fn patch_test(kind: ShellKind, field: impl Fn([f64; 3]) -> [f64; 6]) -> (f64, Ve
         }
     }
     let exact: Vec<f64> = coords.iter().flat_map(|x| field(*x)).collect();
-    // Interior DOFs: nodes 4..8.
-    let free: Vec<usize> = (24..n).collect();
-    let fixed: Vec<usize> = (0..24).collect();
+    // The nodes on the rectangle's boundary hold the field; the others are
+    // free.
+    let on_boundary = |x: &[f64; 3]| {
+        x[0].abs() < 1e-12
+            || (x[0] - 0.24).abs() < 1e-12
+            || x[1].abs() < 1e-12
+            || (x[1] - 0.12).abs() < 1e-12
+    };
+    let (mut free, mut fixed) = (Vec::new(), Vec::new());
+    for (a, x) in coords.iter().enumerate() {
+        let dofs = (6 * a..6 * a + 6).collect::<Vec<_>>();
+        if on_boundary(x) {
+            fixed.extend(dofs);
+        } else {
+            free.extend(dofs);
+        }
+    }
     let kff = Mat::from_fn(free.len(), free.len(), |r, c| k[(free[r], free[c])]);
     let rhs = Mat::from_fn(free.len(), 1, |r, _| {
         -fixed

@@ -22,13 +22,17 @@ fn nafems_steel() -> Material {
     Material::new(200e9, 0.3, 8000.0).unwrap()
 }
 
-/// A structured mesh over the grid `(i, j)`, `0 <= i <= nx`, `0 <= j <= ny`,
-/// node positions from `at(i, j)`: S4 cells, or each cell cut into two S3
-/// along the diagonal from `(i, j)` to `(i + 1, j + 1)`. Node ids are
-/// `1 + i + (nx + 1) j`.
+/// A structured mesh of `nx x ny` cells over the grid `(i, j)`, `0 <= i <=
+/// nx`, `0 <= j <= ny`, node positions from `at(i, j)` (fractional `i, j`
+/// for the mid-side nodes of S6): S4 cells, or each cell cut into two S3
+/// or S6 along its diagonal from `(i, j)` to `(i + 1, j + 1)`. Nodes lie
+/// on the half-step grid `(I, J) = (2 i, 2 j)` for S6, id `1 + I + (2 nx +
+/// 1) J`, else on the grid itself, id `1 + i + (nx + 1) j`.
 struct Grid {
     nx: usize,
-    ny: usize,
+    quadratic: bool,
+    /// Every node with its grid position `(i, j)`.
+    positions: Vec<(f64, f64, NodeId)>,
     nodes: Vec<Node>,
     elements: Vec<Element>,
 }
@@ -39,28 +43,47 @@ impl Grid {
         [nx, ny]: [usize; 2],
         material: &Material,
         thickness: f64,
-        at: impl Fn(usize, usize) -> [f64; 3],
+        at: impl Fn(f64, f64) -> [f64; 3],
     ) -> Self {
-        let id = |i: usize, j: usize| (1 + i + (nx + 1) * j) as NodeId;
-        let mut nodes = Vec::new();
-        for j in 0..=ny {
-            for i in 0..=nx {
-                nodes.push(Node {
-                    id: id(i, j),
-                    coords: at(i, j),
-                });
-            }
-        }
+        let quadratic = kind.is_quadratic();
+        let steps = if quadratic { 2 } else { 1 };
+        let (cols, rows) = (steps * nx, steps * ny);
+        let hid = |a: usize, b: usize| (1 + a + (cols + 1) * b) as NodeId;
         let mut cells: Vec<Vec<NodeId>> = Vec::new();
         for j in 0..ny {
             for i in 0..nx {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                let (a0, b0) = (steps * i, steps * j);
+                let corner = |di: usize, dj: usize| hid(a0 + steps * di, b0 + steps * dj);
+                let (a, b, c, d) = (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1));
+                let mid = |di: usize, dj: usize| hid(a0 + di, b0 + dj);
                 match kind {
                     ShellKind::S4 => cells.push(vec![a, b, c, d]),
                     ShellKind::S3 => {
                         cells.push(vec![a, b, c]);
                         cells.push(vec![a, c, d]);
                     }
+                    ShellKind::S6 => {
+                        cells.push(vec![a, b, c, mid(1, 0), mid(2, 1), mid(1, 1)]);
+                        cells.push(vec![a, c, d, mid(1, 1), mid(1, 2), mid(0, 1)]);
+                    }
+                }
+            }
+        }
+        let mut used: Vec<NodeId> = cells.iter().flatten().copied().collect();
+        used.sort_unstable();
+        used.dedup();
+        let mut positions = Vec::new();
+        let mut nodes = Vec::new();
+        for b in 0..=rows {
+            for a in 0..=cols {
+                let id = hid(a, b);
+                if used.binary_search(&id).is_ok() {
+                    let (i, j) = (a as f64 / steps as f64, b as f64 / steps as f64);
+                    positions.push((i, j, id));
+                    nodes.push(Node {
+                        id,
+                        coords: at(i, j),
+                    });
                 }
             }
         }
@@ -80,19 +103,51 @@ impl Grid {
             .collect();
         Self {
             nx,
-            ny,
+            quadratic,
+            positions,
             nodes,
             elements,
         }
     }
 
+    /// The node at the grid corner `(i, j)`.
     fn id(&self, i: usize, j: usize) -> NodeId {
-        (1 + i + (self.nx + 1) * j) as NodeId
+        let steps = if self.quadratic { 2 } else { 1 };
+        (1 + steps * i + (steps * self.nx + 1) * steps * j) as NodeId
     }
 
-    /// Every node with its grid indices.
-    fn each(&self) -> impl Iterator<Item = (usize, usize, NodeId)> + '_ {
-        (0..=self.ny).flat_map(move |j| (0..=self.nx).map(move |i| (i, j, self.id(i, j))))
+    /// Every node with its grid position.
+    fn each(&self) -> impl Iterator<Item = (f64, f64, NodeId)> + '_ {
+        self.positions.iter().copied()
+    }
+
+    /// Closes the grid into a ring along i: the nodes at `i = nx` become
+    /// those at `i = 0`.
+    fn close_along_i(&mut self) {
+        let nx = self.nx as f64;
+        let first: Vec<(f64, NodeId)> = self
+            .positions
+            .iter()
+            .filter(|p| p.0 == 0.0)
+            .map(|p| (p.1, p.2))
+            .collect();
+        let last: Vec<(NodeId, NodeId)> = self
+            .positions
+            .iter()
+            .filter(|p| p.0 == nx)
+            .map(|p| (p.2, first.iter().find(|f| f.0 == p.1).unwrap().1))
+            .collect();
+        for e in &mut self.elements {
+            if let Element::Shell(s) = e {
+                for node in &mut s.nodes {
+                    if let Some((_, f)) = last.iter().find(|(l, _)| l == node) {
+                        *node = *f;
+                    }
+                }
+            }
+        }
+        self.nodes.retain(|n| last.iter().all(|(l, _)| *l != n.id));
+        self.positions.retain(|p| p.0 != nx);
     }
 
     fn model(&self, fixed: Vec<Dof>) -> Model {
