@@ -1,6 +1,7 @@
-//! The strains, stiffness, mass and stresses of the MITC shell (see the
-//! module docs of [`super`]): a degenerated continuum over the reference
-//! surface, its transverse shear strains tied at the edges.
+//! The strains, stiffness, mass and stresses of the shells (see the module
+//! docs of [`super`]): a degenerated continuum over the reference surface,
+//! its transverse shear strains tied at the edges (MITC4, MITC3) or taken
+//! at the reduced rule's points (S6).
 
 use super::surface::{self, MAX_NODES, THICKNESS_RULE};
 use super::ShellKind;
