@@ -30,6 +30,34 @@ pub struct Material {
 }
 
 impl Material {
+    /// What makes this material unusable for an element, if anything: a
+    /// density that is negative or not finite, and for an isotropic
+    /// material a Young's modulus that is not positive and finite or a
+    /// Poisson's ratio outside (-1, 0.5). The elements' checks name the
+    /// element with it.
+    pub(crate) fn problem(&self) -> Option<String> {
+        if self.anisotropy.is_none() {
+            if !(self.youngs_modulus.is_finite() && self.youngs_modulus > 0.0) {
+                return Some(format!(
+                    "Young's modulus must be positive and finite, got {}",
+                    self.youngs_modulus
+                ));
+            }
+            if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
+                return Some(format!(
+                    "Poisson's ratio must be between -1 and 0.5, got {}",
+                    self.poisson_ratio
+                ));
+            }
+        }
+        (!(self.density.is_finite() && self.density >= 0.0)).then(|| {
+            format!(
+                "density must be zero or positive and finite, got {}",
+                self.density
+            )
+        })
+    }
+
     /// Material from E, Poisson's ratio nu and density; G = E / (2 (1 + nu)).
     pub fn new(youngs_modulus: f64, poisson_ratio: f64, density: f64) -> Result<Self, FemError> {
         require_positive("Young's modulus", youngs_modulus)?;

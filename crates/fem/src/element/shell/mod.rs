@@ -412,23 +412,8 @@ impl Shell {
             Some(format!("shell offset must be finite, got {}", self.offset))
         } else if m.anisotropy.is_some() {
             Some("shells take isotropic materials only (an anisotropic *ELASTIC is refused)".into())
-        } else if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
-            Some(format!(
-                "material: Young's modulus must be positive and finite, got {}",
-                m.youngs_modulus
-            ))
-        } else if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            Some(format!(
-                "material: Poisson's ratio must be between -1 and 0.5, got {}",
-                m.poisson_ratio
-            ))
-        } else if !(m.density.is_finite() && m.density >= 0.0) {
-            Some(format!(
-                "material: density must be zero or positive and finite, got {}",
-                m.density
-            ))
         } else {
-            None
+            m.problem().map(|p| format!("material: {p}"))
         };
         match problem {
             Some(p) => Err(self.invalid(p)),

@@ -636,33 +636,7 @@ impl Solid {
     }
 
     fn check_material(&self) -> Result<(), FemError> {
-        let m = &self.material;
-        let problem = if m.anisotropy.is_some() {
-            (!(m.density.is_finite() && m.density >= 0.0)).then(|| {
-                format!(
-                    "density must be zero or positive and finite, got {}",
-                    m.density
-                )
-            })
-        } else if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
-            Some(format!(
-                "Young's modulus must be positive and finite, got {}",
-                m.youngs_modulus
-            ))
-        } else if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            Some(format!(
-                "Poisson's ratio must be between -1 and 0.5, got {}",
-                m.poisson_ratio
-            ))
-        } else if !(m.density.is_finite() && m.density >= 0.0) {
-            Some(format!(
-                "density must be zero or positive and finite, got {}",
-                m.density
-            ))
-        } else {
-            None
-        };
-        match problem {
+        match self.material.problem() {
             Some(p) => Err(self.invalid(format!("material: {p}"))),
             None => Ok(()),
         }
