@@ -2,7 +2,8 @@
 //! the report's study on a solid mesh.
 
 use super::support::{
-    max_difference, run_ok, solid_side_beam as solid_path, stdout_json, unit_translation,
+    max_difference, reduced_and_full_histories, run_ok, solid_side_beam as solid_path, stdout_json,
+    unit_translation,
 };
 use flexbody::fem::{Dof, DofKind, Substructure};
 use flexbody::linalg::memory::Budget;
@@ -240,19 +241,7 @@ fn solid_stress_histories_of_reduced_and_full_models_agree() {
     // full mesh integrated the same way (free-residual, 19 Hz excitation far
     // below the first elastic mode).
     let file = read_model_file(&solid_path()).unwrap();
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let spec = file.simulation.as_ref().unwrap();
-    let body = flexbody::simulate::simulation_body(&file, &sub, spec, Budget::MACHINE, &NoProgress)
-        .unwrap();
-    let red = flexbody::simulate::run_simulation(&file, FlexibleBody::Reduced(&body)).unwrap();
-    let full = flexbody::simulate::run_simulation(
-        &file,
-        FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        },
-    )
-    .unwrap();
+    let (red, full) = reduced_and_full_histories(&file);
     assert!(red.times == full.times);
     for node in [53, 557] {
         let name = format!("node {node} von Mises (Pa)");

@@ -4,11 +4,10 @@
 //! mesh, its von Mises stresses on each surface in time from the Ritz
 //! coordinates against the full mesh, and its mass against the section's.
 
-use super::support::{max_difference, unit_translation};
+use super::support::{max_difference, reduced_and_full_histories, unit_translation};
 use flexbody::fem::{DofKind, Substructure};
 use flexbody::linalg::memory::Budget;
 use flexbody::linalg::progress::NoProgress;
-use flexbody::mbs::FlexibleBody;
 use flexbody::reduce::Method;
 use flexbody::scenario::read_model_file;
 use flexbody::study::run_study;
@@ -64,19 +63,7 @@ fn the_reports_findings_hold_on_the_shell_side_beam() {
 #[test]
 fn shell_stress_histories_of_reduced_and_full_models_agree_on_each_surface() {
     let file = read_model_file(&shell_side_beam()).unwrap();
-    let sub = Substructure::from_model(&file.model).unwrap();
-    let spec = file.simulation.as_ref().unwrap();
-    let body = flexbody::simulate::simulation_body(&file, &sub, spec, Budget::MACHINE, &NoProgress)
-        .unwrap();
-    let red = flexbody::simulate::run_simulation(&file, FlexibleBody::Reduced(&body)).unwrap();
-    let full = flexbody::simulate::run_simulation(
-        &file,
-        FlexibleBody::Full {
-            dof_map: &sub.dof_map,
-            matrices: &sub.matrices,
-        },
-    )
-    .unwrap();
+    let (red, full) = reduced_and_full_histories(&file);
     assert!(red.times == full.times);
     for node in [53, 221] {
         assert!(red.column(&format!("node {node} von Mises (Pa)")).is_none());

@@ -319,3 +319,26 @@ pub(crate) fn write_beam_case(
     });
     std::fs::write(path, serde_json::to_string(&doc).unwrap()).unwrap();
 }
+
+/// The `[simulation]` of `file` run twice: with the body it reduces to,
+/// and with the full model (the reference); the histories of each.
+pub(crate) fn reduced_and_full_histories(
+    file: &flexbody::scenario::ModelFile,
+) -> (flexbody::simulate::Histories, flexbody::simulate::Histories) {
+    use flexbody::linalg::{memory::Budget, progress::NoProgress};
+    use flexbody::mbs::FlexibleBody;
+    use flexbody::simulate::{run_simulation, simulation_body};
+    let sub = Substructure::from_model(&file.model).unwrap();
+    let spec = file.simulation.as_ref().unwrap();
+    let body = simulation_body(file, &sub, spec, Budget::MACHINE, &NoProgress).unwrap();
+    let red = run_simulation(file, FlexibleBody::Reduced(&body)).unwrap();
+    let full = run_simulation(
+        file,
+        FlexibleBody::Full {
+            dof_map: &sub.dof_map,
+            matrices: &sub.matrices,
+        },
+    )
+    .unwrap();
+    (red, full)
+}
