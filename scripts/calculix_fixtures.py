@@ -159,6 +159,7 @@ FIXTURES = {
     "tet4_beam": ("C3D4", (6, 1, 1), (0.6, 0.1, 0.1), lambda m: tet_elements(m, False), False, 10),
     "wedge_block": ("C3D6", (2, 2, 2), (0.2, 0.2, 0.2), wedge_elements, False, 10),
     "wedge15_beam": ("C3D15", (2, 1, 1), (0.4, 0.1, 0.1), lambda m: wedge_elements(m, True), False, 12),
+    "hex8r_beam": ("C3D8R", (6, 2, 2), (0.6, 0.1, 0.1), lambda m: hex_elements(m, False), False, 10),
 }
 
 
@@ -407,9 +408,11 @@ def temperature_table(mesh, elements):
     ]}
 
 
+CLAMPED_HEX8R = ("C3D8R", (6, 2, 2), (0.6, 0.1, 0.1), lambda m: hex_elements(m, False), True, 10)
 CLAMPED_HEX20 = ("C3D20", (2, 1, 1), (0.4, 0.1, 0.1), lambda m: hex_elements(m, True), True, 10)
 CUSTOM.update({
     "ortho_rotated_block": (CLAMPED_HEX20, ortho_rotated),
+    "ortho_rotated_c3d8r": (CLAMPED_HEX8R, ortho_rotated),
     "aniso_block": (CLAMPED_BAR, aniso_block),
     "cylindrical_ring": (CLAMPED_BAR, cylindrical_ring),
     "temperature_bar": (CLAMPED_BAR, temperature_table),

@@ -61,6 +61,13 @@ fn engineering_constants_in_a_turned_rectangular_orientation_match_calculix() {
     matches_calculix("ortho_rotated_block");
 }
 
+/// C3D8R's hourglass stiffness scales with the elasticity's `C_xxxx` in
+/// global axes for an anisotropic material, as CalculiX's does.
+#[test]
+fn engineering_constants_on_c3d8r_match_calculix() {
+    matches_calculix("ortho_rotated_c3d8r");
+}
+
 #[test]
 fn an_anisotropic_material_matches_calculix() {
     matches_calculix("aniso_block");

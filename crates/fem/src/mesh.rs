@@ -149,7 +149,9 @@ impl SolidBlock {
                     let v = |b: usize| grid([i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2)]);
                     let hex = hex_cell(i, j, k, grid);
                     match self.kind {
-                        SolidKind::C3D8 | SolidKind::C3D8I => mesh.elements.push(hex),
+                        SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => {
+                            mesh.elements.push(hex)
+                        }
                         SolidKind::C3D20 | SolidKind::C3D20R => {
                             let mut e = hex.clone();
                             for (a, b) in HEX20_EDGES {

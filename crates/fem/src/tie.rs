@@ -60,7 +60,7 @@ pub fn solid_face(kind: SolidKind, face: usize) -> Option<&'static [usize]> {
         &[2, 5, 3, 0, 14, 11, 12, 8],
     ];
     let table: &[&'static [usize]] = match kind {
-        SolidKind::C3D8 | SolidKind::C3D8I => &HEX,
+        SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => &HEX,
         SolidKind::C3D20 | SolidKind::C3D20R => &HEX20,
         SolidKind::C3D4 => &TET,
         SolidKind::C3D10 => &TET10,

@@ -73,8 +73,8 @@ const MODIFIED_TET: &str = "modified tetrahedron (M): Abaqus' own shape function
     differ at the discretisation level";
 
 /// The names meshers write that flexbody reads as one of its types.
-/// Hybrid names of types flexbody lacks (C3D8RH) are not here: they are
-/// refused like their base types.
+/// Hybrid names of types flexbody lacks are not here: they are refused
+/// like their base types.
 pub const ELEMENT_ALIASES: &[ElementAlias] = &[
     ElementAlias {
         name: "C3D4H",
@@ -89,6 +89,11 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
     ElementAlias {
         name: "C3D8H",
         reads_as: "C3D8",
+        meaning: HYBRID,
+    },
+    ElementAlias {
+        name: "C3D8RH",
+        reads_as: "C3D8R",
         meaning: HYBRID,
     },
     ElementAlias {

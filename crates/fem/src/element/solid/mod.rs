@@ -7,6 +7,7 @@
 //! | --- | --- | --- | --- | --- |
 //! | C3D8 | 8 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
 //! | C3D8I | 8 | 2x2x2 Gauss, 9 incompatible modes condensed | 2x2x2 Gauss (trilinear) | 2x2x2 points, with the incompatible modes |
+//! | C3D8R | 8 | uniform strain (1 point) plus hourglass stiffness | 1 point | the element's uniform strain (constant) |
 //! | C3D20 | 20 | 3x3x3 Gauss | 3x3x3 Gauss | 3x3x3 points, triquadratic extrapolation |
 //! | C3D20R | 20 | 2x2x2 Gauss | 2x2x2 Gauss | 2x2x2 points, trilinear extrapolation |
 //! | C3D10 | 10 | 4-point | 4-point | 4 points, linear extrapolation |
@@ -44,6 +45,29 @@
 //! flexbody's (0.5 % of the largest entry on an element distorted by 15 %);
 //! and the mass it gives the modes moves frequencies (3 % for the first
 //! bending mode of a free beam six elements long).
+//!
+//! C3D8R is Flanagan and Belytschko's uniform-strain hexahedron with
+//! hourglass control, as CalculiX 2.20 builds it (`shape8hr.f`,
+//! `hgstiffness.f`): the mean gradients `b_a = (1/V) int grad N_a dV`
+//! (exact, from 2x2x2 points) give one constant strain, `K = V B^T C B`;
+//! the four hourglass modes of each direction get the stiffness
+//! `c 0.0005 sum_b |V b_b|^2 / V gamma^k gamma^k^T` (`c` = E, or `C_xxxx`
+//! in global axes for an anisotropic material, as in CalculiX) with
+//! Flanagan and Belytschko's vectors `gamma^k = h^k - sum_j b^j (x_j . h^k)`
+//! (`h^k` the base vectors `eta zeta`, `zeta xi`, `xi eta`, `xi eta zeta`
+//! at the corners, `x_j` the nodes' coordinate `j`). Its mass is
+//! CalculiX's one-point mass, `rho V / 64` in every entry of each
+//! direction (singular: rank 1 per direction and element).
+//!
+//! CalculiX's `shape8hr.f` resets `gamma^k` in its loop over `j`, so that
+//! only the `j = z` term of the projection survives. The two agree where
+//! `x` and `y` are linear in the natural coordinates (parallelepipeds,
+//! regular meshes, elements distorted along z only: tested entry by entry);
+//! on a general distorted element CalculiX's vectors are not orthogonal to
+//! linear displacement fields, its hourglass stiffness resists a constant
+//! strain and the element fails the patch test; flexbody's passes it. The
+//! stiffness then differs by the hourglass term (1.1e-3 of the largest
+//! entry on an element distorted by 15 %).
 //!
 //! Stiffness: `K_ab = sum_p w_p det J_p [lambda g_a g_b^T + mu (g_b g_a^T +
 //! (g_a . g_b) I)]` with `g_a = grad N_a` at point `p`, the Lame constants
@@ -101,6 +125,8 @@ pub enum SolidKind {
     C3D8,
     /// 8-node hexahedron with incompatible (bubble) modes, condensed.
     C3D8I,
+    /// 8-node hexahedron, uniform (mean) strain with hourglass control.
+    C3D8R,
     /// 20-node serendipity hexahedron, full (3x3x3) integration.
     C3D20,
     /// 20-node serendipity hexahedron, reduced (2x2x2) integration.
@@ -117,9 +143,10 @@ pub enum SolidKind {
 
 impl SolidKind {
     /// All kinds.
-    pub const ALL: [SolidKind; 8] = [
+    pub const ALL: [SolidKind; 9] = [
         SolidKind::C3D8,
         SolidKind::C3D8I,
+        SolidKind::C3D8R,
         SolidKind::C3D20,
         SolidKind::C3D20R,
         SolidKind::C3D10,
@@ -131,7 +158,7 @@ impl SolidKind {
     /// Number of nodes.
     pub const fn node_count(self) -> usize {
         match self {
-            SolidKind::C3D8 | SolidKind::C3D8I => 8,
+            SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => 8,
             SolidKind::C3D20 | SolidKind::C3D20R => 20,
             SolidKind::C3D10 => 10,
             SolidKind::C3D4 => 4,
@@ -145,6 +172,7 @@ impl SolidKind {
         match self {
             SolidKind::C3D8 => "C3D8",
             SolidKind::C3D8I => "C3D8I",
+            SolidKind::C3D8R => "C3D8R",
             SolidKind::C3D20 => "C3D20",
             SolidKind::C3D20R => "C3D20R",
             SolidKind::C3D10 => "C3D10",
@@ -167,7 +195,7 @@ impl SolidKind {
     /// with their triangles turned the other way round, as VTK orders them.
     pub const fn vtk_cell(self) -> VtkCell {
         match self {
-            SolidKind::C3D8 | SolidKind::C3D8I => VtkCell::in_order(12, 8),
+            SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => VtkCell::in_order(12, 8),
             SolidKind::C3D20 | SolidKind::C3D20R => VtkCell::in_order(25, 20),
             SolidKind::C3D4 => VtkCell::in_order(10, 4),
             SolidKind::C3D10 => VtkCell::in_order(24, 10),
@@ -214,10 +242,12 @@ impl SolidKind {
         }
     }
 
-    /// The stiffness rule (CalculiX `mint3d` with `intscheme = 0`).
+    /// The stiffness rule (CalculiX `mint3d` with `intscheme = 0`); for
+    /// C3D8R the rule that integrates its mean gradients exactly (its
+    /// stiffness and mass take one point, see the module docs).
     fn stiffness_rule(self) -> Rule {
         match self {
-            SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D20R => Rule::Hex2,
+            SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R | SolidKind::C3D20R => Rule::Hex2,
             SolidKind::C3D20 => Rule::Hex3,
             SolidKind::C3D10 => Rule::Tet4,
             SolidKind::C3D4 => Rule::Tet1,
@@ -257,6 +287,7 @@ type BuildFn = fn(usize, &[NodeId], &SectionValues) -> Result<Element, FemError>
 pub(super) const ELEMENT_TYPES: &[ElementType] = &[
     SolidKind::C3D8.element_type(|id, nodes, s| SolidKind::C3D8.build(id, nodes, s)),
     SolidKind::C3D8I.element_type(|id, nodes, s| SolidKind::C3D8I.build(id, nodes, s)),
+    SolidKind::C3D8R.element_type(|id, nodes, s| SolidKind::C3D8R.build(id, nodes, s)),
     SolidKind::C3D20.element_type(|id, nodes, s| SolidKind::C3D20.build(id, nodes, s)),
     SolidKind::C3D20R.element_type(|id, nodes, s| SolidKind::C3D20R.build(id, nodes, s)),
     SolidKind::C3D10.element_type(|id, nodes, s| SolidKind::C3D10.build(id, nodes, s)),
@@ -418,6 +449,9 @@ impl Solid {
     /// per node pair (the same for each direction), upper triangle,
     /// row-major, `n` square (else empty).
     fn integrate(&self, geometry: &Geometry, mass: bool) -> Result<(Mat<f64>, Vec<f64>), FemError> {
+        if self.kind == SolidKind::C3D8R {
+            return self.integrate_uniform_strain(geometry, mass);
+        }
         let nn = self.kind.node_count();
         let nk = nn + self.kind.incompatible_modes();
         let ndk = 3 * nk;
@@ -459,6 +493,80 @@ impl Solid {
             }
         });
         Ok((k, m))
+    }
+
+    /// C3D8R's stiffness and mass in the form of [`Self::integrate`]: the
+    /// uniform strain of the mean gradients at one point plus the hourglass
+    /// stiffness, and the one-point mass (see the module docs).
+    fn integrate_uniform_strain(
+        &self,
+        geometry: &Geometry,
+        mass: bool,
+    ) -> Result<(Mat<f64>, Vec<f64>), FemError> {
+        const NN: usize = 8;
+        const ND: usize = 3 * NN;
+        let mean = geometry.mean_gradients();
+        let volume = mean.volume;
+        let mut k = vec![0.0; ND * ND];
+        // The hourglass stiffness scales with E, or with C_xxxx in global
+        // axes for an anisotropic material, as in CalculiX.
+        let modulus = match self.centre_elasticity(geometry)? {
+            None => {
+                let (lambda, mu) = self.lame();
+                add_stiffness(&mut k, NN, &mean.gradients, lambda * volume, mu * volume);
+                self.material.youngs_modulus
+            }
+            Some(c) => {
+                add_stiffness_general(&mut k, NN, &mean.gradients, &c, volume);
+                c[0][0]
+            }
+        };
+        let hourglass = geometry.hourglass_vectors(&mean.gradients);
+        // Flanagan-Belytschko's stiffness with CalculiX's scaling,
+        // `E 0.0005 sum_a |V b_a|^2 / V` per hourglass mode.
+        let squares: f64 = mean.gradients[..NN]
+            .iter()
+            .flatten()
+            .map(|b| (b * volume).powi(2))
+            .sum();
+        let scale = modulus * HOURGLASS_STIFFNESS * squares / volume;
+        for a in 0..NN {
+            for b in a..NN {
+                let g: f64 = (0..4).map(|m| hourglass[a][m] * hourglass[b][m]).sum();
+                for i in 0..3 {
+                    k[(3 * a + i) * ND + 3 * b + i] += scale * g;
+                }
+            }
+        }
+        let mut m = vec![0.0; if mass { NN * NN } else { 0 }];
+        if mass {
+            let mut centre = [0.0; MAX_NODES];
+            centre[..NN].fill(1.0 / 8.0);
+            add_mass(&mut m, NN, &centre, self.material.density * volume);
+        }
+        let k = Mat::from_fn(
+            ND,
+            ND,
+            |r, c| {
+                if r <= c {
+                    k[r * ND + c]
+                } else {
+                    k[c * ND + r]
+                }
+            },
+        );
+        Ok((k, m))
+    }
+
+    /// The anisotropic elasticity in global axes at the mean of the nodes
+    /// (C3D8R's one integration point), `None` for an isotropic material.
+    fn centre_elasticity(&self, geometry: &Geometry) -> Result<Option<Voigt>, FemError> {
+        let Some(a) = self.material.anisotropy.as_deref() else {
+            return Ok(None);
+        };
+        a.global_at(geometry.node_mean())
+            .map(Some)
+            .map_err(|e| self.invalid(e.to_string()))
     }
 
     /// [`Geometry::point`], with the gradients of the incompatible modes
@@ -538,6 +646,23 @@ impl Solid {
             )));
         }
         let (lambda, mu) = self.lame();
+        if self.kind == SolidKind::C3D8R {
+            // The uniform strain of the mean gradients, the same at every
+            // node; hourglass modes strain nothing.
+            let mean = geometry.mean_gradients();
+            let c = self.centre_elasticity(&geometry)?;
+            return Ok(u_e
+                .chunks_exact(3 * nn)
+                .flat_map(|u| {
+                    let e = strain(&mean.gradients[..nn], u);
+                    let s = match &c {
+                        None => stress(&e, lambda, mu),
+                        Some(c) => std::array::from_fn(|i| (0..6).map(|j| c[i][j] * e[j]).sum()),
+                    };
+                    std::iter::repeat_n(s, nn)
+                })
+                .collect());
+        }
         let rule = self.kind.stiffness_rule();
         let points: Vec<_> = rule
             .points()
@@ -662,6 +787,31 @@ struct Geometry {
     size: f64,
 }
 
+/// A hexahedron's mean shape-function gradients (m^-1, first 8 entries)
+/// and its volume (m^3).
+struct MeanGradients {
+    gradients: [[f64; 3]; MAX_NODES],
+    volume: f64,
+}
+
+/// The hourglass base vectors of the 8-node hexahedron, `h_a^k` for node
+/// `a` at natural corner `(xi, eta, zeta)`: `eta zeta`, `zeta xi`,
+/// `xi eta`, `xi eta zeta`.
+const HOURGLASS_BASE: [[f64; 4]; 8] = [
+    [1.0, 1.0, 1.0, -1.0],
+    [1.0, -1.0, -1.0, 1.0],
+    [-1.0, -1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0, 1.0],
+    [-1.0, -1.0, 1.0, 1.0],
+    [-1.0, 1.0, -1.0, -1.0],
+    [1.0, 1.0, 1.0, 1.0],
+    [1.0, -1.0, -1.0, -1.0],
+];
+
+/// The hourglass stiffness coefficient of C3D8R, CalculiX's
+/// (`shape8hr.f`).
+const HOURGLASS_STIFFNESS: f64 = 0.0005;
+
 /// Shape functions, their global gradients and `det J` at one point.
 struct PointValues {
     n: [f64; MAX_NODES],
@@ -693,6 +843,64 @@ impl Geometry {
         for (n, r) in point.n.iter().zip(&self.rel).take(self.kind.node_count()) {
             for (xi, ri) in x.iter_mut().zip(r) {
                 *xi += n * ri;
+            }
+        }
+        x
+    }
+
+    /// The mean shape-function gradients of a hexahedron, `b_a = (1/V)
+    /// int grad N_a dV`, and its volume `V` (Flanagan and Belytschko, eqs.
+    /// 15-16): integrated with 2x2x2 points, which is exact for the
+    /// trilinear hexahedron (`det J grad N_a` is at most quadratic in each
+    /// natural coordinate).
+    fn mean_gradients(&self) -> MeanGradients {
+        let mut gradients = [[0.0; 3]; MAX_NODES];
+        let mut volume = 0.0;
+        let rule = Rule::Hex2;
+        for (xi, w) in rule.points().iter().zip(rule.weights()) {
+            let point = self.point(*xi);
+            let wd = w * point.det_j;
+            volume += wd;
+            for (b, g) in gradients.iter_mut().zip(&point.grad).take(8) {
+                for (bi, gi) in b.iter_mut().zip(g) {
+                    *bi += wd * gi;
+                }
+            }
+        }
+        for b in gradients.iter_mut().take(8) {
+            *b = b.map(|v| v / volume);
+        }
+        MeanGradients { gradients, volume }
+    }
+
+    /// Flanagan and Belytschko's hourglass vectors of a hexahedron,
+    /// `gamma_a^k = h_a^k - b_a . sum_l x_l h_l^k` (their eq. 43) for the
+    /// four base vectors `h^k` ([`HOURGLASS_BASE`]), from the mean gradients
+    /// `b`: orthogonal to every linear displacement field, so that the
+    /// hourglass stiffness leaves constant strains alone.
+    fn hourglass_vectors(&self, b: &[[f64; 3]; MAX_NODES]) -> [[f64; 4]; 8] {
+        let mut projection = [[0.0; 3]; 4];
+        for (p, k) in projection.iter_mut().zip(0..4) {
+            for (x, h) in self.rel.iter().zip(&HOURGLASS_BASE) {
+                for (pj, xj) in p.iter_mut().zip(x) {
+                    *pj += xj * h[k];
+                }
+            }
+        }
+        std::array::from_fn(|a| {
+            std::array::from_fn(|k| {
+                HOURGLASS_BASE[a][k] - (0..3).map(|j| b[a][j] * projection[k][j]).sum::<f64>()
+            })
+        })
+    }
+
+    /// The mean of the nodes' global positions.
+    fn node_mean(&self) -> [f64; 3] {
+        let nn = self.kind.node_count();
+        let mut x = self.origin;
+        for r in self.rel.iter().take(nn) {
+            for (xi, ri) in x.iter_mut().zip(r) {
+                *xi += ri / nn as f64;
             }
         }
         x

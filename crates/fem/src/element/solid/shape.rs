@@ -95,7 +95,7 @@ pub(super) const fn node_coordinates(kind: SolidKind) -> &'static [[f64; 3]] {
     let hex: &'static [[f64; 3]] = &HEX20_NODES;
     let tet: &'static [[f64; 3]] = &TET10_NODES;
     match kind {
-        SolidKind::C3D8 | SolidKind::C3D8I => hex.split_at(8).0,
+        SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => hex.split_at(8).0,
         SolidKind::C3D20 | SolidKind::C3D20R => hex,
         SolidKind::C3D10 => tet,
         SolidKind::C3D4 => tet.split_at(4).0,
@@ -114,7 +114,7 @@ pub(super) fn evaluate(
     dn: &mut [[f64; 3]; MAX_NODES],
 ) {
     match kind {
-        SolidKind::C3D8 | SolidKind::C3D8I => hex8(xi, n, dn),
+        SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => hex8(xi, n, dn),
         SolidKind::C3D20 | SolidKind::C3D20R => hex20(xi, n, dn),
         SolidKind::C3D10 => tet10(xi, n, dn),
         SolidKind::C3D4 => tet4(xi, n, dn),

@@ -195,9 +195,9 @@ fn bad_decks_name_the_line_and_the_culprit() {
         (
             BRICKS,
             "*Element, type=c3d8",
-            "*ELEMENT, TYPE=C3D8R",
-            "TYPE=C3D8R",
-            &["C3D8R", "hourglass control"],
+            "*ELEMENT, TYPE=M3D4",
+            "TYPE=M3D4",
+            &["element type M3D4 is not supported", "membranes"],
         ),
         // A missing include file.
         (

@@ -52,7 +52,13 @@ fn isotropic_elasticity_on_the_general_path_equals_the_fast_path() {
     let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
     let mu = e / (2.0 * (1.0 + nu));
     let orientation = Orientation::cylindrical([5.0, 0.0, 0.0], [5.0, 1.0, 3.0]).unwrap();
-    for kind in SolidKind::ALL {
+    // Not C3D8R: its hourglass stiffness scales with E for an isotropic
+    // material and with C_xxxx (lambda + 2 mu here) for an anisotropic one,
+    // as CalculiX's does (the `ortho_rotated_c3d8r` CalculiX fixture).
+    for kind in SolidKind::ALL
+        .into_iter()
+        .filter(|k| *k != SolidKind::C3D8R)
+    {
         let x = distorted(kind, 3, 0.1);
         let iso = solid(kind).matrices(&x).unwrap();
         let general = with(

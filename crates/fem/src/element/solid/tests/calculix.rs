@@ -14,7 +14,7 @@
 //!   fails when `FLEXBODY_REQUIRE_PEERS=1` (as in CI).
 //! - `write_calculix_fixture` (ignored) regenerates the fixture with `ccx`.
 
-use super::{distorted, solid, E, NU, RHO};
+use super::{distorted, solid, Random, E, NU, RHO};
 use crate::element::mat_vec;
 use crate::element::solid::SolidKind;
 use faer::Mat;
@@ -27,8 +27,8 @@ use std::process::Command;
 ///
 /// CalculiX writes 14 significant digits (`%.13e`, a rounding of up to
 /// 5e-14 of the entry) of values with its own round-off. Measured over the
-/// twelve elements (six kinds, two shapes), K and M: `|a - b| / |b|` at most
-/// 7.3e-14 on the entries above the floor (`RTOL |b| > ATOL sqrt(b_ii
+/// seventeen elements (nine kinds, two shapes but one for C3D8I), K and M:
+/// `|a - b| / |b|` at most 7.3e-14 on the entries above the floor (`RTOL |b| > ATOL sqrt(b_ii
 /// b_jj)`); `|a - b| / sqrt(b_ii b_jj)` at most 6.9e-15 on those below it
 /// (small entries from cancellation, zeros in one program and round-off in
 /// the other). The largest ratio to the allowance is 0.32.
@@ -204,8 +204,8 @@ fn agreement(a: &Mat<f64>, b: &Mat<f64>) -> Agreement {
 
 /// The elements each kind is compared on: one distorted by 15 % (curved
 /// edges for the quadratic kinds) and one affine image of the reference
-/// element, as `(seed, amplitude)` of [`distorted`]. C3D8I only on the
-/// affine one: on a distorted element CalculiX's incompatible modes are
+/// element, as `(seed, amplitude)` of [`compared_element`]. C3D8I only on
+/// the affine one: on a distorted element CalculiX's incompatible modes are
 /// not flexbody's (see the `solid` module docs).
 fn shapes(kind: SolidKind) -> &'static [(u64, f64)] {
     match kind.incompatible_modes() {
@@ -215,7 +215,7 @@ fn shapes(kind: SolidKind) -> &'static [(u64, f64)] {
 }
 
 /// The element of each kind the stored fixture holds (`seed`, `amplitude`
-/// of [`distorted`]): distorted, C3D8I affine ([`shapes`]).
+/// of [`compared_element`]): distorted, C3D8I affine ([`shapes`]).
 fn fixture_shape(kind: SolidKind) -> (u64, f64) {
     match kind.incompatible_modes() {
         0 => (61, 0.15),
@@ -223,11 +223,39 @@ fn fixture_shape(kind: SolidKind) -> (u64, f64) {
     }
 }
 
+/// Element `(seed, amplitude)` of [`distorted`], rounded as CalculiX reads
+/// it; a C3D8R's distortion moves its nodes along z only: its hourglass
+/// vectors are then CalculiX's, which keep only the z part of Flanagan and
+/// Belytschko's (see the `solid` module docs).
+fn compared_element(kind: SolidKind, seed: u64, amplitude: f64) -> Vec<[f64; 3]> {
+    if kind != SolidKind::C3D8R {
+        return rounded(distorted(kind, seed, amplitude));
+    }
+    let mut rng = Random::new(seed);
+    rounded(
+        distorted(kind, seed, 0.0)
+            .into_iter()
+            .map(|[x, y, z]| [x, y, z + amplitude * rng.vec3()[2]])
+            .collect(),
+    )
+}
+
+/// Largest entry of `b` and largest `|a_ij - b_ij|`.
+fn largest_difference(a: &Mat<f64>, b: &Mat<f64>) -> (f64, f64) {
+    let entries = (0..b.nrows()).flat_map(|i| (0..b.ncols()).map(move |j| (i, j)));
+    entries.fold((0.0_f64, 0.0_f64), |(l, d), (i, j)| {
+        (l.max(b[(i, j)].abs()), d.max((a[(i, j)] - b[(i, j)]).abs()))
+    })
+}
+
 #[test]
-fn c3d8i_on_a_distorted_element_is_not_calculixs() {
-    // CalculiX leaves out the det J_0 / det J scaling of the incompatible
-    // modes: the same element where det J is constant, a different one
-    // where it is not. The difference is the scaling's, not round-off.
+fn distorted_c3d8i_and_c3d8r_are_not_calculixs() {
+    // C3D8I: CalculiX leaves out the det J_0 / det J scaling of the
+    // incompatible modes. C3D8R: CalculiX's hourglass vectors keep only
+    // the z part of Flanagan and Belytschko's projection. Both: the same
+    // element where the terms vanish (tested above), a different one on a
+    // general distorted element; the difference is the formulation's, not
+    // round-off, and the mass is the same.
     if !ccx_2_20() {
         assert!(
             !peers_required(),
@@ -235,26 +263,28 @@ fn c3d8i_on_a_distorted_element_is_not_calculixs() {
         );
         return;
     }
-    let x = rounded(distorted(SolidKind::C3D8I, 71, 0.15));
-    let ours = solid(SolidKind::C3D8I).matrices(&x).unwrap();
-    let (k, m) = calculix_matrices(SolidKind::C3D8I, &x, "distorted");
-    let largest = (0..k.nrows())
-        .flat_map(|i| (0..k.ncols()).map(move |j| (i, j)))
-        .fold(0.0_f64, |a, (i, j)| a.max(k[(i, j)].abs()));
-    let diff = (0..k.nrows())
-        .flat_map(|i| (0..k.ncols()).map(move |j| (i, j)))
-        .fold(0.0_f64, |a, (i, j)| {
-            a.max((ours.stiffness[(i, j)] - k[(i, j)]).abs())
-        });
-    eprintln!(
-        "distorted C3D8I: K differs from CalculiX's by {:.2e} of its largest entry",
-        diff / largest
-    );
-    assert!(diff > 1e-4 * largest && diff < 0.05 * largest);
-    assert!(
-        agreement(&ours.mass, &m).worst <= 1.0,
-        "the mass is the same"
-    );
+    for (kind, low, high) in [
+        (SolidKind::C3D8I, 1e-4, 0.05),
+        (SolidKind::C3D8R, 1e-5, 0.01),
+    ] {
+        let x = rounded(distorted(kind, 71, 0.15));
+        let ours = solid(kind).matrices(&x).unwrap();
+        let (k, m) = calculix_matrices(kind, &x, "distorted");
+        let (largest, diff) = largest_difference(&ours.stiffness, &k);
+        eprintln!(
+            "distorted {kind:?}: K differs from CalculiX's by {:.2e} of its largest entry",
+            diff / largest
+        );
+        assert!(
+            diff > low * largest && diff < high * largest,
+            "{kind:?}: {:.2e}",
+            diff / largest
+        );
+        assert!(
+            agreement(&ours.mass, &m).worst <= 1.0,
+            "{kind:?}: the mass is the same"
+        );
+    }
 }
 
 #[test]
@@ -270,7 +300,7 @@ fn agrees_with_calculix_when_installed() {
     let (mut relative, mut scaled) = ([0.0_f64; 2], [0.0_f64; 2]);
     for kind in SolidKind::ALL {
         for &(seed, amplitude) in shapes(kind) {
-            let x = rounded(distorted(kind, seed, amplitude));
+            let x = compared_element(kind, seed, amplitude);
             let ours = solid(kind).matrices(&x).unwrap();
             let (k, m) = calculix_matrices(kind, &x, &seed.to_string());
             for (slot, (name, a, b)) in [("K", &ours.stiffness, &k), ("M", &ours.mass, &m)]
@@ -290,11 +320,16 @@ fn agrees_with_calculix_when_installed() {
             }
         }
     }
+    let elements: usize = SolidKind::ALL.iter().map(|k| shapes(*k).len()).sum();
     eprintln!(
-        "CalculiX 2.20 (live), full K and M of 15 elements (8 kinds), entry by entry: \
+        "CalculiX 2.20 (live), full K and M of {elements} elements ({} kinds), entry by entry: \
          largest |a - b| / |b| K {:.1e}, M {:.1e} (allowed {RTOL:e}); below the floor, largest \
          |a - b| / sqrt(b_ii b_jj) K {:.1e}, M {:.1e} (allowed {ATOL:e})",
-        relative[0], relative[1], scaled[0], scaled[1]
+        SolidKind::ALL.len(),
+        relative[0],
+        relative[1],
+        scaled[0],
+        scaled[1]
     );
 }
 
@@ -376,7 +411,8 @@ fn agrees_with_stored_calculix_products() {
 fn write_calculix_fixture() {
     assert!(ccx_2_20(), "ccx 2.20 must be on the PATH");
     let mut text = String::from(
-        "# K v and M v of one distorted element per kind (C3D8I: an affine one),\n\
+        "# K v and M v of one distorted element per kind (C3D8I: an affine one;\n\
+         # C3D8R: distorted along z only),\n\
          # computed from the matrices CalculiX 2.20 writes with *FREQUENCY,\n\
          # SOLVER=MATRIXSTORAGE (C3D8I: K condensed, M on the element's nodes)\n\
          # (E = 2.1e11 Pa, nu = 0.3, rho = 7850 kg/m^3), v_i = ((7 i + 3) mod 11) - 5\n\
@@ -385,7 +421,7 @@ fn write_calculix_fixture() {
     );
     for kind in SolidKind::ALL {
         let (seed, amplitude) = fixture_shape(kind);
-        let x = rounded(distorted(kind, seed, amplitude));
+        let x = compared_element(kind, seed, amplitude);
         let (k, m) = calculix_matrices(kind, &x, "fixture");
         let v = probe(3 * kind.node_count());
         writeln!(text, "kind {}", kind.name()).unwrap();

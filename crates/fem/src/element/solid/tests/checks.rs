@@ -20,7 +20,7 @@ fn reason(e: FemError) -> String {
 /// mid-edge nodes that go with them.
 fn reversed(kind: SolidKind) -> Vec<usize> {
     match kind {
-        SolidKind::C3D8 | SolidKind::C3D8I => vec![4, 5, 6, 7, 0, 1, 2, 3],
+        SolidKind::C3D8 | SolidKind::C3D8I | SolidKind::C3D8R => vec![4, 5, 6, 7, 0, 1, 2, 3],
         SolidKind::C3D20 | SolidKind::C3D20R => vec![
             4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19,
         ],
