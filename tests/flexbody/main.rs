@@ -1,6 +1,7 @@
 //! flexbody's integration tests: one binary, one module per area. Each test
 //! is also an example of the API.
 
+mod beams;
 mod bounded_work;
 mod calculix;
 mod calculix_constraints;

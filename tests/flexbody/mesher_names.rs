@@ -44,6 +44,25 @@ const BEAM: &str = "*NODE
 1, 1, 6
 ";
 
+/// [`BEAM`] as one three-node beam.
+const B32_BEAM: &str = "*NODE
+1, 0.0, 0.0, 0.0
+2, 0.5, 0.0, 0.0
+3, 1.0, 0.0, 0.0
+*ELEMENT, TYPE=B32, ELSET=EB
+1, 1, 2, 3
+*MATERIAL, NAME=STEEL
+*ELASTIC
+2.1e11, 0.3
+*DENSITY
+7850.
+*BEAM SECTION, ELSET=EB, MATERIAL=STEEL, SECTION=RECT
+0.1, 0.05
+0.0, 1.0, 0.0
+*BOUNDARY
+1, 1, 6
+";
+
 #[test]
 fn every_alias_reads_as_a_registered_type() {
     for alias in ELEMENT_ALIASES {
@@ -108,6 +127,7 @@ fn hybrid_and_modified_names_give_their_base_type_s_matrices_and_say_so() {
                 fixture_text("hex_beam").replace("TYPE=C3D8, ", "TYPE=C3D8I, ")
             }
             None if alias.reads_as.starts_with('S') => SHELLS.to_string(),
+            None if alias.reads_as == "B32" => B32_BEAM.to_string(),
             None => BEAM.to_string(),
         };
         let base = format!("TYPE={}, ", alias.reads_as);

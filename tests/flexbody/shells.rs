@@ -359,48 +359,6 @@ fn fv16_deck(n: usize) -> String {
     t
 }
 
-/// CalculiX's frequencies (Hz) of `deck`, or `None` without ccx.
-fn calculix_frequencies(dir: &std::path::Path, name: &str, deck: &str) -> Option<Vec<f64>> {
-    std::fs::write(dir.join(format!("{name}.inp")), deck).unwrap();
-    let out = std::process::Command::new("ccx")
-        .args(["-i", name])
-        .current_dir(dir)
-        .env("OMP_NUM_THREADS", "1")
-        .output()
-        .ok()?;
-    let dat = std::fs::read_to_string(dir.join(format!("{name}.dat"))).unwrap_or_else(|e| {
-        panic!(
-            "no {name}.dat ({e}); ccx said:\n{}",
-            String::from_utf8_lossy(&out.stdout)
-        )
-    });
-    let table = dat
-        .split("E I G E N V A L U E   O U T P U T")
-        .nth(1)
-        .unwrap();
-    Some(
-        table
-            .lines()
-            .filter_map(|l| {
-                let f: Vec<&str> = l.split_whitespace().collect();
-                (f.len() == 5 && f[0].parse::<usize>().is_ok()).then(|| f[3].parse().unwrap())
-            })
-            .collect(),
-    )
-}
-
-/// flexbody's frequencies (Hz) of the deck `name` in `dir`.
-fn our_frequencies(dir: &std::path::Path, name: &str) -> Vec<f64> {
-    let deck = dir.join(format!("{name}.inp"));
-    let o = super::support::run_ok(&["modes", deck.to_str().unwrap(), "--count", "6", "--json"]);
-    super::support::stdout_json(&o)["frequencies_hz"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap())
-        .collect()
-}
-
 #[test]
 fn shells_against_calculix_which_expands_them_into_solids() {
     // CalculiX has no shell element: it expands each S4 into a solid
@@ -409,14 +367,16 @@ fn shells_against_calculix_which_expands_them_into_solids() {
     // (measured: mode 6 +10.7 % from flexbody, which is within 0.7 % of
     // NAFEMS there), on 32 x 32 they agree within 0.63 %.
     let dir = tempfile::tempdir().unwrap();
-    let Some(ccx16) = calculix_frequencies(dir.path(), "fv16_16", &fv16_deck(16)) else {
+    let Some(ccx16) = super::support::calculix_frequencies(dir.path(), "fv16_16", &fv16_deck(16))
+    else {
         super::support::skip_without_peer("shells_against_calculix", "ccx (CalculiX)");
         return;
     };
-    let ccx32 = calculix_frequencies(dir.path(), "fv16_32", &fv16_deck(32)).unwrap();
+    let ccx32 =
+        super::support::calculix_frequencies(dir.path(), "fv16_32", &fv16_deck(32)).unwrap();
     let (ours16, ours32) = (
-        our_frequencies(dir.path(), "fv16_16"),
-        our_frequencies(dir.path(), "fv16_32"),
+        super::support::our_frequencies(dir.path(), 6, "fv16_16"),
+        super::support::our_frequencies(dir.path(), 6, "fv16_32"),
     );
     for k in 0..6 {
         let apart32 = (ours32[k] - ccx32[k]).abs() / ccx32[k];

@@ -342,3 +342,52 @@ pub(crate) fn reduced_and_full_histories(
     .unwrap();
     (red, full)
 }
+
+/// CalculiX's frequencies (Hz) of `deck`, written to `dir/name.inp` and
+/// run there (`ccx -i name`, one thread), or `None` without ccx.
+pub(crate) fn calculix_frequencies(
+    dir: &std::path::Path,
+    name: &str,
+    deck: &str,
+) -> Option<Vec<f64>> {
+    std::fs::write(dir.join(format!("{name}.inp")), deck).unwrap();
+    let out = std::process::Command::new("ccx")
+        .args(["-i", name])
+        .current_dir(dir)
+        .env("OMP_NUM_THREADS", "1")
+        .output()
+        .ok()?;
+    let dat = std::fs::read_to_string(dir.join(format!("{name}.dat"))).unwrap_or_else(|e| {
+        panic!(
+            "no {name}.dat ({e}); ccx said:\n{}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    });
+    let table = dat
+        .split("E I G E N V A L U E   O U T P U T")
+        .nth(1)
+        .unwrap();
+    Some(
+        table
+            .lines()
+            .filter_map(|l| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                (f.len() == 5 && f[0].parse::<usize>().is_ok()).then(|| f[3].parse().unwrap())
+            })
+            .collect(),
+    )
+}
+
+/// flexbody's lowest `count` frequencies (Hz) of the deck `name` in `dir`
+/// (`flexbody modes`).
+pub(crate) fn our_frequencies(dir: &std::path::Path, count: usize, name: &str) -> Vec<f64> {
+    let deck = dir.join(format!("{name}.inp"));
+    let count = count.to_string();
+    let o = run_ok(&["modes", deck.to_str().unwrap(), "--count", &count, "--json"]);
+    stdout_json(&o)["frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}

@@ -24,6 +24,7 @@ fn variant(e: &Element) -> &'static str {
     match e {
         Element::PlanarBeam(_) => "PlanarBeam",
         Element::Beam(_) => "Beam",
+        Element::QuadraticBeam(_) => "QuadraticBeam",
         Element::PointMass(_) => "PointMass",
         Element::Spring(_) => "Spring",
         Element::AxialSpring(_) => "AxialSpring",
@@ -73,6 +74,7 @@ fn every_element_variant_is_built_through_the_registry() {
     // them.
     let expected: HashSet<&str> = [
         "Beam",
+        "QuadraticBeam",
         "PointMass",
         "Spring",
         "AxialSpring",

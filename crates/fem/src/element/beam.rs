@@ -68,24 +68,11 @@ impl Beam {
         if l.is_nan() || l <= 0.0 {
             return Err(FemError::ZeroLength { element: self.id });
         }
-        let v = self.orientation;
-        let vx = v[0] * ex[0] + v[1] * ex[1] + v[2] * ex[2];
-        let y = [v[0] - vx * ex[0], v[1] - vx * ex[1], v[2] - vx * ex[2]];
-        let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
-        let nv = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if ny.is_nan() || ny <= 1e-8 * nv {
-            return Err(FemError::OrientationParallel {
-                element: self.id,
-                orientation: v,
-            });
-        }
-        let ey = [y[0] / ny, y[1] / ny, y[2] / ny];
-        let ez = [
-            ex[1] * ey[2] - ex[2] * ey[1],
-            ex[2] * ey[0] - ex[0] * ey[2],
-            ex[0] * ey[1] - ex[1] * ey[0],
-        ];
-        Ok((l, [ex, ey, ez]))
+        let frame = local_frame(ex, self.orientation).ok_or(FemError::OrientationParallel {
+            element: self.id,
+            orientation: self.orientation,
+        })?;
+        Ok((l, frame))
     }
 
     /// 12x12 transformation `u_local = T u_global`.
@@ -306,6 +293,26 @@ impl ElementBehaviour for Beam {
     fn vtk_cell(&self) -> Option<VtkCell> {
         Some(VtkCell::LINE)
     }
+}
+
+/// The beam's local axes (rows: x, y, z) at a point where its axis has the
+/// unit tangent `ex`: y is the part of the orientation vector `v` normal to
+/// `ex`, z = x cross y. `None` if `v` is (within 1e-8) parallel to `ex`.
+pub(super) fn local_frame(ex: [f64; 3], v: [f64; 3]) -> Option<[[f64; 3]; 3]> {
+    let vx = v[0] * ex[0] + v[1] * ex[1] + v[2] * ex[2];
+    let y = [v[0] - vx * ex[0], v[1] - vx * ex[1], v[2] - vx * ex[2]];
+    let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).sqrt();
+    let nv = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if ny.is_nan() || ny <= 1e-8 * nv {
+        return None;
+    }
+    let ey = [y[0] / ny, y[1] / ny, y[2] / ny];
+    let ez = [
+        ex[1] * ey[2] - ex[2] * ey[1],
+        ex[2] * ey[0] - ex[0] * ey[2],
+        ex[0] * ey[1] - ex[1] * ey[0],
+    ];
+    Some([ex, ey, ez])
 }
 
 /// Adds a 4x4 bending block into 12x12 matrices at `idx`, with DOF signs.

@@ -16,6 +16,7 @@ mod discrete;
 mod mass_distribution;
 pub mod planar_beam;
 pub mod point_mass;
+pub mod quadratic_beam;
 mod registry;
 pub mod shell;
 pub mod solid;
@@ -27,6 +28,7 @@ pub use dashpot::{AxialDashpot, Dashpot};
 pub use mass_distribution::{MassDistribution, MassPoint};
 pub use planar_beam::PlanarBeam;
 pub use point_mass::PointMass;
+pub use quadratic_beam::QuadraticBeam;
 pub use registry::{
     element_types, ElementAlias, ElementType, SectionKind, SectionValues, ELEMENT_ALIASES,
 };
@@ -75,6 +77,8 @@ element_kinds! {
     PlanarBeam(PlanarBeam),
     /// 3D beam, 6 DOFs per node, Euler-Bernoulli or Timoshenko.
     Beam(Beam),
+    /// Three-node quadratic 3D Timoshenko beam, straight or curved (B32).
+    QuadraticBeam(QuadraticBeam),
     /// Point mass with rotary inertia.
     PointMass(PointMass),
     /// Scalar spring to ground or between two DOFs.
@@ -85,7 +89,8 @@ element_kinds! {
     Dashpot(Dashpot),
     /// Viscous dashpot along the line between two nodes (DASHPOTA).
     AxialDashpot(AxialDashpot),
-    /// Solid element (C3D8, C3D8I, C3D20, C3D20R, C3D10, C3D4, C3D6, C3D15).
+    /// Solid element (C3D8, C3D8I, C3D8R, C3D20, C3D20R, C3D10, C3D4, C3D6,
+    /// C3D15).
     Solid(Solid),
     /// Shell element, 6 DOFs per node (S3, S4, S6).
     Shell(Shell),
@@ -98,6 +103,7 @@ pub static ELEMENT_TYPES: &[&[ElementType]] = &[
     solid::ELEMENT_TYPES,
     shell::ELEMENT_TYPES,
     beam::ELEMENT_TYPES,
+    quadratic_beam::ELEMENT_TYPES,
     point_mass::ELEMENT_TYPES,
     spring::ELEMENT_TYPES,
     dashpot::ELEMENT_TYPES,

@@ -68,6 +68,11 @@ const REDUCED_SHELL: &str = "reduced integration (R): Abaqus integrates the memb
     bending of S4R at one point with hourglass control (S3R is S3 itself); flexbody uses its \
     MITC shell, integrated fully, which has no hourglass modes; frequencies differ at the \
     discretisation level";
+const REDUCED_BEAM: &str = "reduced integration (R): CalculiX expands beams into a layer of \
+    bricks and integrates those with the reduced rule (B31R: C3D8R, B32R: C3D20R); flexbody's \
+    beams are beam elements (B31 exact for end loads, B32 integrated at two points along its \
+    axis), for which R changes nothing; frequencies differ from CalculiX's expanded beams at the \
+    discretisation level";
 const MODIFIED_TET: &str = "modified tetrahedron (M): Abaqus' own shape functions and \
     integration (made for contact), read as the standard quadratic tetrahedron; frequencies \
     differ at the discretisation level";
@@ -149,6 +154,23 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
         meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
             beams whose axial and shear stiffness dwarf their bending stiffness; read as \
             flexbody's B31 (a Timoshenko beam), as B31 itself is",
+    },
+    ElementAlias {
+        name: "B31R",
+        reads_as: "B31",
+        meaning: REDUCED_BEAM,
+    },
+    ElementAlias {
+        name: "B32H",
+        reads_as: "B32",
+        meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
+            beams whose axial and shear stiffness dwarf their bending stiffness; read as \
+            flexbody's B32 (a Timoshenko beam), as B32 itself is",
+    },
+    ElementAlias {
+        name: "B32R",
+        reads_as: "B32",
+        meaning: REDUCED_BEAM,
     },
 ];
 

@@ -51,7 +51,6 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
 /// Why an element type is refused, for the types users are likely to have.
 fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
-        "B32" | "B32R" | "B31R" => " (use B31)",
         "S8" | "S8R" | "S4R5" | "S8R5" | "S9R5" => {
             " (quadrilateral quadratic shells are not implemented yet; S3, S4 and S6 are)"
         }

@@ -30,6 +30,35 @@ fn b31_beam_with_a_rect_section() {
     assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
 }
 
+#[test]
+fn b32_beams_straight_and_curved_with_their_middle_node_second() {
+    // Two elements: straight, then a quarter arc of radius 1 about
+    // (1, 0, 1), in the x-z plane (local y, the orientation, normal to it).
+    let text = BEAM
+        .replace(
+            "3, 1.0, 0, 0\n",
+            "3, 1.0, 0, 0\n4, 1.7071067811865475, 0, 0.2928932188134524\n5, 2.0, 0, 1.0\n",
+        )
+        .replace("TYPE=B31", "TYPE=B32")
+        .replace("1, 1, 2\n2, 2, 3\n", "1, 1, 2, 3\n2, 3, 4, 5\n");
+    let deck = parse(&text).unwrap();
+    let elements = deck.model.elements();
+    assert_eq!(elements.len(), 2);
+    for (e, nodes) in elements.iter().zip([[1, 2, 3], [3, 4, 5]]) {
+        let Element::QuadraticBeam(b) = e else {
+            panic!("not a B32: {e:?}")
+        };
+        assert_eq!(b.nodes, nodes);
+        assert_eq!(b.orientation, [0.0, 1.0, 0.0]);
+    }
+    // Five nodes of 6 DOFs, node 1 clamped.
+    assert_eq!(deck.model.dof_map().len(), 24);
+    assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+    // A B32 line with two nodes names the element and the count.
+    let short = text.replace("1, 1, 2, 3\n", "1, 1, 3\n");
+    assert_error(&short, "1, 1, 3", &["element 1 has 2 nodes", "B32 needs 3"]);
+}
+
 fn beam_with_section(section: &str, dims: &str) -> String {
     BEAM.replace(
         "SECTION=RECT\n0.04, 0.06\n0., 1., 0.\n",
