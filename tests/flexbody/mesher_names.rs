@@ -79,7 +79,7 @@ fn every_alias_reads_as_a_registered_type() {
     assert!(ElementType::resolve("C3D10HS").is_none());
 }
 
-/// Two S4 and one S3 shell, 3 mm steel, one edge held.
+/// Two S4, one S3 and one S8 shell, 3 mm steel, one edge held.
 const SHELLS: &str = "\
 *NODE
 1, 0., 0., 0.
@@ -89,11 +89,20 @@ const SHELLS: &str = "\
 5, 1., 1., 0.1
 6, 2., 1., 0.
 7, 3., 0.5, 0.
+8, 3., 1., 0.
+9, 3., 2., 0.
+10, 2., 2., 0.
+11, 2.5, 1., 0.
+12, 3., 1.5, 0.02
+13, 2.5, 2., 0.
+14, 2., 1.5, 0.
 *ELEMENT, TYPE=S4, ELSET=PLATE
 1, 1, 2, 5, 4
 2, 2, 3, 6, 5
 *ELEMENT, TYPE=S3, ELSET=PLATE
 3, 3, 7, 6
+*ELEMENT, TYPE=S8, ELSET=PLATE
+4, 6, 8, 9, 10, 11, 12, 13, 14
 *MATERIAL, NAME=STEEL
 *ELASTIC
 2.1e11, 0.3

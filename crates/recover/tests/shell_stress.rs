@@ -38,7 +38,7 @@ fn strip(kind: ShellKind, n: usize) -> Model {
                 cells.push(vec![a, b, c]);
                 cells.push(vec![a, c, d]);
             }
-            ShellKind::S6 => unreachable!("strips of S3 and S4 only"),
+            ShellKind::S6 | ShellKind::S8 => unreachable!("strips of S3 and S4 only"),
         }
     }
     let elements = cells

@@ -68,6 +68,9 @@ const REDUCED_SHELL: &str = "reduced integration (R): Abaqus integrates the memb
     bending of S4R at one point with hourglass control (S3R is S3 itself); flexbody uses its \
     MITC shell, integrated fully, which has no hourglass modes; frequencies differ at the \
     discretisation level";
+const REDUCED_QUADRATIC_SHELL: &str = "reduced integration (R): Abaqus integrates S8R at 2 x 2 \
+    points; flexbody's S8 is a MITC shell integrated at 3 x 3 points, free of locking and of \
+    spurious modes; frequencies differ at the discretisation level";
 const REDUCED_BEAM: &str = "reduced integration (R): CalculiX expands beams into a layer of \
     bricks and integrates those with the reduced rule (B31R: C3D8R, B32R: C3D20R); flexbody's \
     beams are beam elements (B31 exact for end loads, B32 integrated at two points along its \
@@ -142,6 +145,11 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
         name: "S4R",
         reads_as: "S4",
         meaning: REDUCED_SHELL,
+    },
+    ElementAlias {
+        name: "S8R",
+        reads_as: "S8",
+        meaning: REDUCED_QUADRATIC_SHELL,
     },
     ElementAlias {
         name: "S3R",

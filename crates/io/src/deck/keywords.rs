@@ -51,10 +51,11 @@ pub(super) fn property_keyword(section: SectionKind) -> &'static str {
 /// Why an element type is refused, for the types users are likely to have.
 fn unsupported_type_hint(t: &str) -> &'static str {
     match t {
-        "S8" | "S8R" | "S4R5" | "S8R5" | "S9R5" => {
-            " (quadrilateral quadratic shells are not implemented yet; S3, S4 and S6 are)"
+        "S4R5" | "S8R5" | "S9R5" => {
+            " (Abaqus' thin shells with five DOFs per node are not implemented; S3, S4, S6 and \
+             S8 are)"
         }
-        _ if t.starts_with('S') => " (flexbody's shells are S3, S4 and S6 (S3R, S4R))",
+        _ if t.starts_with('S') => " (flexbody's shells are S3, S4, S6 and S8 (S3R, S4R, S8R))",
         _ if t.starts_with('M') => " (membranes are not implemented)",
         _ if t.starts_with("CP") || t.starts_with("CAX") => {
             " (plane and axisymmetric elements are not implemented)"

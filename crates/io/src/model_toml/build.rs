@@ -415,10 +415,15 @@ impl<'a> Builder<'a> {
                     let kind = match nodes.len() {
                         3 => ShellKind::S3,
                         4 => ShellKind::S4,
+                        6 => ShellKind::S6,
+                        8 => ShellKind::S8,
                         n => {
                             return Err(self.src.error(
                                 Some(offset),
-                                format!("shell {id} has {n} nodes; an S3 has 3, an S4 4"),
+                                format!(
+                                    "shell {id} has {n} nodes; an S3 has 3, an S4 4, an S6 6, \
+                                     an S8 8"
+                                ),
                             ))
                         }
                     };

@@ -1,9 +1,10 @@
 //! The strains, stiffness, mass and stresses of the shells (see the module
 //! docs of [`super`]): a degenerated continuum over the reference surface,
 //! its transverse shear strains tied at the edges (MITC4, MITC3) or taken
-//! at the reduced rule's points (S6).
+//! at the reduced rule's points (S6), or every strain tied as in MITC9 on a
+//! nine-node surface (S8).
 
-use super::surface::{self, MAX_NODES, THICKNESS_RULE};
+use super::surface::{self, G2, G3, MAX_NODES, THICKNESS_RULE};
 use super::ShellKind;
 use crate::element::MassPoint;
 use faer::Mat;
@@ -56,8 +57,9 @@ pub(super) struct Point {
 }
 
 impl Geometry {
+    /// The interpolation nodes (S8: with its internal centre).
     fn nodes(&self) -> usize {
-        self.kind.node_count()
+        self.kind.interpolation_nodes()
     }
 
     /// The point at natural coordinates `rs` and thickness coordinate `t`
@@ -158,6 +160,11 @@ impl Geometry {
             // The quadratic triangle takes its shear where it integrates
             // it, at the reduced rule's points.
             ShellKind::S6 => [at([r, s], 0), at([r, s], 1)],
+            ShellKind::S8 => {
+                let rt = mitc9(r, s, |rs| at(rs, 0));
+                let st = mitc9(s, r, |[a, b]| at([b, a], 1));
+                [rt, st]
+            }
             ShellKind::S3 => {
                 let rt1 = at([0.5, 0.0], 0);
                 let st2 = at([0.0, 0.5], 1);
@@ -172,43 +179,121 @@ impl Geometry {
         }
     }
 
+    /// The in-plane covariant strains `e_rr`, `e_ss`, `e_rs` at `p` (the
+    /// point `(rs, t)`): where they are, except for S8, whose strains are
+    /// interpolated from tying points as in MITC9 (Bucalem and Bathe,
+    /// 1993): `e_rr` from `r = +-1/sqrt(3)` times `s = 0, +-sqrt(3/5)`,
+    /// `e_ss` the same turned, `e_rs` from the 2 x 2 Gauss points. Each
+    /// tied component holds the strain a constant physical strain gives on
+    /// a straight-edged element, and the tying frees curved elements of
+    /// membrane locking; the patch tests need the correction of
+    /// [`Self::membrane_correction`] besides.
+    fn membrane(&self, p: &Point, [r, s]: [f64; 2], t: f64) -> [Row; 3] {
+        if self.kind != ShellKind::S8 {
+            return [
+                self.covariant(p, 0, 0),
+                self.covariant(p, 1, 1),
+                self.covariant(p, 0, 1),
+            ];
+        }
+        let at = |rs: [f64; 2], alpha: usize, beta: usize| {
+            let q = self.point(rs, t);
+            self.covariant(&q, alpha, beta)
+        };
+        let rr = mitc9(r, s, |rs| at(rs, 0, 0));
+        let ss = mitc9(s, r, |[a, b]| at([b, a], 1, 1));
+        let lin = |x: f64| [0.5 * (1.0 - x / G2), 0.5 * (1.0 + x / G2)];
+        let (lr, ls) = (lin(r), lin(s));
+        let mut terms = Vec::with_capacity(4);
+        let mut rows = Vec::with_capacity(4);
+        for (i, ri) in [-G2, G2].into_iter().enumerate() {
+            for (j, sj) in [-G2, G2].into_iter().enumerate() {
+                terms.push(lr[i] * ls[j]);
+                rows.push(at([ri, sj], 0, 1));
+            }
+        }
+        let pairs: Vec<(f64, &Row)> = terms.into_iter().zip(&rows).collect();
+        [rr, ss, combine(&pairs)]
+    }
+
     /// The strains on the local frame at `(rs, t)`, as rows:
     /// `[e11, e22, g12, g13, g23]` (engineering shears), the transverse
-    /// shears from the tied covariant strains.
-    pub fn local_strains(&self, rs: [f64; 2], t: f64) -> (Point, [Row; 5]) {
+    /// shears from the tied covariant strains; S8's membrane strains with
+    /// its `correction` at level `t` ([`Self::membrane_correction`]).
+    pub fn local_strains(
+        &self,
+        rs: [f64; 2],
+        t: f64,
+        correction: Option<&Correction>,
+    ) -> (Point, [Row; 5]) {
         let p = self.point(rs, t);
         let [rt, st] = self.tied_shear(rs, t);
-        let cov = [
-            self.covariant(&p, 0, 0),
-            self.covariant(&p, 1, 1),
-            self.covariant(&p, 0, 1),
-            rt,
-            st,
-        ];
-        let a = &p.a;
-        let pairs = [
-            (0, 0, 1.0),
-            (1, 1, 1.0),
-            (0, 1, 2.0),
-            (0, 2, 2.0),
-            (1, 2, 2.0),
-        ];
-        let rows = pairs.map(|(k, l, factor)| {
-            let coefficients = [
-                a[0][k] * a[0][l],
-                a[1][k] * a[1][l],
-                a[0][k] * a[1][l] + a[1][k] * a[0][l],
-                a[0][k] * a[2][l] + a[2][k] * a[0][l],
-                a[1][k] * a[2][l] + a[2][k] * a[1][l],
-            ];
-            let terms: Vec<(f64, &Row)> = coefficients
-                .iter()
-                .zip(&cov)
-                .map(|(c, row)| (factor * c, row))
-                .collect();
-            combine(&terms)
-        });
+        let [rr, ss, rs_] = self.membrane(&p, rs, t);
+        let mut rows = to_local(&p, &[rr, ss, rs_, rt, st]);
+        if let Some(c) = correction {
+            let turned = turn(&c.rows, &c.frame, &p.frame);
+            for (row, add) in rows.iter_mut().zip(&turned) {
+                for (r, a) in row.iter_mut().zip(add) {
+                    *r += a;
+                }
+            }
+        }
         (p, rows)
+    }
+
+    /// S8's correction of its tied membrane strains at level `t` (`None`
+    /// for the other kinds): the mean over the element of the compatible
+    /// less the tied membrane strains, `[e_xx, e_yy, g_xy]` on the frame at
+    /// the element's centre, added to the tied strains at every point. A
+    /// constant stress then does the same work on the tied strains as on
+    /// the compatible ones, so that the element's nodal forces balance
+    /// between elements and it passes the patch tests on distorted meshes
+    /// (MITC9's tying alone does not); a displacement the tying holds
+    /// exactly (every linear field on a straight-edged element) has no
+    /// correction, and the tying's freedom from membrane locking stays.
+    pub fn membrane_correction(&self, t: f64) -> Option<Correction> {
+        if self.kind != ShellKind::S8 {
+            return None;
+        }
+        let frame = self.point([0.0, 0.0], t).frame;
+        let mut sum = [ZERO_ROW; 3];
+        let mut area = 0.0;
+        for (rs, w) in surface::rule(self.kind) {
+            let p = self.point(*rs, t);
+            let tied = self.membrane(&p, *rs, t);
+            let difference: [Row; 3] = std::array::from_fn(|c| {
+                let compatible = match c {
+                    0 => self.covariant(&p, 0, 0),
+                    1 => self.covariant(&p, 1, 1),
+                    _ => self.covariant(&p, 0, 1),
+                };
+                combine(&[(1.0, &compatible), (-1.0, &tied[c])])
+            });
+            let local = to_local(
+                &p,
+                &[
+                    difference[0],
+                    difference[1],
+                    difference[2],
+                    ZERO_ROW,
+                    ZERO_ROW,
+                ],
+            );
+            let turned = turn(&[local[0], local[1], local[2]], &p.frame, &frame);
+            let wd = w * p.det_j;
+            area += wd;
+            for (s, r) in sum.iter_mut().zip(&turned) {
+                for (si, ri) in s.iter_mut().zip(r) {
+                    *si += wd * ri;
+                }
+            }
+        }
+        for s in &mut sum {
+            for v in s.iter_mut() {
+                *v /= area;
+            }
+        }
+        Some(Correction { frame, rows: sum })
     }
 
     /// The drilling strain at the mid-surface point `rs`: the rotation
@@ -245,9 +330,11 @@ impl Geometry {
         let nd = 6 * self.nodes();
         let d = Elasticity::new(youngs_modulus, poisson_ratio);
         let mut k = vec![0.0; nd * nd];
+        let corrections = THICKNESS_RULE.map(|(t, _)| self.membrane_correction(t));
         for (rs, w) in surface::rule(self.kind) {
-            for (t, wt) in THICKNESS_RULE {
-                let (p, rows) = self.local_strains(*rs, t);
+            for ((t, wt), correction) in THICKNESS_RULE.iter().zip(&corrections) {
+                let (t, wt) = (*t, *wt);
+                let (p, rows) = self.local_strains(*rs, t, correction.as_ref());
                 let wd = w * wt * p.det_j;
                 let stressed = d.apply(&rows, nd);
                 add_products(&mut k, nd, &rows, &stressed, wd);
@@ -317,8 +404,10 @@ impl Geometry {
     /// Stresses (Pa, global Voigt `[sxx, syy, szz, sxy, syz, szx]`) at the
     /// nodes, on the bottom (`t = -1`), middle and top surfaces, of
     /// `columns` displacement fields one after the other in `u_e`: entry
-    /// `(3 j + layer) n + a`. In-plane stresses from the strains at the
-    /// in-plane rule's points, extrapolated to the nodes; transverse shear
+    /// `(3 j + layer) n + a` (`n` the element's nodes; `u_e` over the
+    /// interpolation nodes' DOFs, S8's centre included). In-plane stresses
+    /// from the strains at the points of [`surface::stress_rule`],
+    /// extrapolated to the nodes; transverse shear
     /// parabolic through the thickness, zero on the faces and 3/2 of the
     /// mean on the middle surface.
     pub fn stresses(
@@ -328,18 +417,19 @@ impl Geometry {
         u_e: &[f64],
         columns: usize,
     ) -> Vec<[f64; 6]> {
-        let nn = self.nodes();
-        let nd = 6 * nn;
+        let nn = self.kind.node_count();
+        let nd = 6 * self.nodes();
         let d = Elasticity::new(youngs_modulus, poisson_ratio);
-        let rule = surface::rule(self.kind);
+        let rule = surface::stress_rule(self.kind);
         let weights = surface::extrapolation(self.kind);
         let layers = [-1.0, 0.0, 1.0];
         // The strain rows and frames at each layer and point.
         let at: Vec<Vec<(Point, [Row; 5])>> = layers
             .iter()
             .map(|&t| {
+                let correction = self.membrane_correction(t);
                 rule.iter()
-                    .map(|(rs, _)| self.local_strains(*rs, t))
+                    .map(|(rs, _)| self.local_strains(*rs, t, correction.as_ref()))
                     .collect()
             })
             .collect();
@@ -387,6 +477,93 @@ impl Geometry {
         }
         out
     }
+}
+
+/// S8's membrane correction at one level: rows of `[e_xx, e_yy, g_xy]` on
+/// `frame`'s in-plane axes.
+pub(super) struct Correction {
+    frame: [[f64; 3]; 3],
+    rows: [Row; 3],
+}
+
+/// The local strains `[e11, e22, g12, g13, g23]` (engineering shears) at
+/// `p` of the covariant strains `cov = [e_rr, e_ss, e_rs, e_rt, e_st]`.
+fn to_local(p: &Point, cov: &[Row; 5]) -> [Row; 5] {
+    let a = &p.a;
+    let pairs = [
+        (0, 0, 1.0),
+        (1, 1, 1.0),
+        (0, 1, 2.0),
+        (0, 2, 2.0),
+        (1, 2, 2.0),
+    ];
+    pairs.map(|(k, l, factor)| {
+        let coefficients = [
+            a[0][k] * a[0][l],
+            a[1][k] * a[1][l],
+            a[0][k] * a[1][l] + a[1][k] * a[0][l],
+            a[0][k] * a[2][l] + a[2][k] * a[0][l],
+            a[1][k] * a[2][l] + a[2][k] * a[1][l],
+        ];
+        let terms: Vec<(f64, &Row)> = coefficients
+            .iter()
+            .zip(cov)
+            .map(|(c, row)| (factor * c, row))
+            .collect();
+        combine(&terms)
+    })
+}
+
+/// In-plane strains `[e11, e22, g12]` on the first two axes of `from`,
+/// turned onto those of `to`: `e'_ij = (b_i . a_k)(b_j . a_l) e_kl`.
+fn turn(rows: &[Row; 3], from: &[[f64; 3]; 3], to: &[[f64; 3]; 3]) -> [Row; 3] {
+    let c = |i: usize, k: usize| dot(to[i], from[k]);
+    // The tensor components e_kl as combinations of the rows.
+    let tensor = |k: usize, l: usize| -> [(usize, f64); 1] {
+        match (k, l) {
+            (0, 0) => [(0, 1.0)],
+            (1, 1) => [(1, 1.0)],
+            _ => [(2, 0.5)],
+        }
+    };
+    let component = |i: usize, j: usize| -> Row {
+        let mut terms = Vec::with_capacity(4);
+        for k in 0..2 {
+            for l in 0..2 {
+                for (row, f) in tensor(k, l) {
+                    terms.push((c(i, k) * c(j, l) * f, &rows[row]));
+                }
+            }
+        }
+        combine(&terms)
+    };
+    let e01 = component(0, 1);
+    [component(0, 0), component(1, 1), combine(&[(2.0, &e01)])]
+}
+
+/// MITC9's interpolation of a covariant strain tied along `r` (`e_rr`,
+/// `e_rt`): its values `at` the points `r = +-1/sqrt(3)`, `s = 0,
+/// +-sqrt(3/5)`, linear in `r` and quadratic in `s` between them. With the
+/// arguments turned (`s`, `r`, and `at` taking `[s, r]`), the same for the
+/// components tied along `s`.
+fn mitc9(r: f64, s: f64, at: impl Fn([f64; 2]) -> Row) -> Row {
+    let lin = [0.5 * (1.0 - r / G2), 0.5 * (1.0 + r / G2)];
+    let b2 = G3 * G3;
+    let quad = [
+        s * (s - G3) / (2.0 * b2),
+        1.0 - s * s / b2,
+        s * (s + G3) / (2.0 * b2),
+    ];
+    let mut rows = Vec::with_capacity(6);
+    let mut weights = Vec::with_capacity(6);
+    for (i, ri) in [-G2, G2].into_iter().enumerate() {
+        for (j, sj) in [-G3, 0.0, G3].into_iter().enumerate() {
+            rows.push(at([ri, sj]));
+            weights.push(lin[i] * quad[j]);
+        }
+    }
+    let pairs: Vec<(f64, &Row)> = weights.into_iter().zip(&rows).collect();
+    combine(&pairs)
 }
 
 /// The plane-stress elasticity of the shell's layers and its transverse

@@ -1,7 +1,8 @@
 //! Shell elements with six DOFs per node (`ux uy uz rx ry rz`): the MITC
 //! shells of Dvorkin and Bathe (S4, four nodes) and of Lee and Bathe (S3,
-//! three nodes), and the quadratic (curved) triangle S6, in the node
-//! numbering of Abaqus/CalculiX.
+//! three nodes), the quadratic (curved) triangle S6 and the quadratic
+//! quadrilateral S8 (MITC9 of Bucalem and Bathe on a nine-node surface,
+//! its centre node condensed), in the node numbering of Abaqus/CalculiX.
 //!
 //! **Kinematics.** A degenerated continuum over the reference surface
 //! through the nodes: the point at natural coordinates `(r, s)` and
@@ -21,11 +22,18 @@
 //! (MITC4: `e_rt` from the edge midpoints `s = +-1`, `e_st` from `r = +-1`;
 //! MITC3: the three edge midpoints with the rotated component of Lee and
 //! Bathe, 2004); S6 takes all its strains at the three interior points of
-//! its (reduced) rule. They are turned onto a local Cartesian frame (`e1` along
-//! `g_r`, `e3` normal to the surface) and meet a plane-stress material
+//! its (reduced) rule; S8 ties all five components as MITC9 and corrects
+//! the membrane ones by their mean difference from the compatible ones,
+//! so that it passes the patch tests on distorted meshes
+//! (`membrane_correction` in `mitc.rs`). They are turned onto a local
+//! Cartesian frame (`e1` along `g_r`, `e3` normal to the surface) and meet
+//! a plane-stress material
 //! (`sigma_33 = 0`) with transverse shear stiffness `k G`, `k = 5/6`.
-//! Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in the plane (S4) or
-//! three (S3, S6), two through the thickness (exact for a flat shell).
+//! Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in the plane (S4),
+//! three (S3, S6) or 3 x 3 (S8), two through the thickness (exact for a
+//! flat shell). S8's centre node is condensed statically in the element:
+//! `K = K_bb - K_bc K_cc^-1 K_cb`, its mass and stresses through the same
+//! map `u_c = -K_cc^-1 K_cb u_b`.
 //!
 //! **Drilling.** The rotation about the normal has no stiffness in the
 //! continuum; a penalty `gamma (theta_n - w)^2 / 2` per area ties it to the
@@ -36,7 +44,7 @@
 //! the six rigid-body modes.
 //!
 //! **Mass.** Consistent, with rotary inertia (2 x 2 points for S4, 3 for
-//! S3, 6 for S6): at each point a
+//! S3, 6 for S6, 3 x 3 for S8): at each point a
 //! rigid slice through the thickness of mass `rho a dA` at the mid-surface
 //! and rotary inertia `rho a^3 / 12 dA` about the in-plane axes, moving
 //! with the interpolated displacement and rotation of that point (its
@@ -55,12 +63,13 @@
 mod mitc;
 mod surface;
 
-use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell};
+use super::{element_coords, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, VtkCell};
 use super::{Element, ElementType, MassDistribution, SectionKind, SectionValues, StressLayer};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
+use faer::linalg::solvers::Solve;
 use mitc::{cross, dot, norm, unit, Geometry};
 use surface::MAX_NODES;
 
@@ -82,11 +91,14 @@ pub enum ShellKind {
     S4,
     /// 6-node triangle, quadratic, three-point integration.
     S6,
+    /// 8-node quadrilateral, quadratic (curved): MITC9 with its centre node
+    /// condensed.
+    S8,
 }
 
 impl ShellKind {
     /// All kinds.
-    pub const ALL: [ShellKind; 3] = [ShellKind::S3, ShellKind::S4, ShellKind::S6];
+    pub const ALL: [ShellKind; 4] = [ShellKind::S3, ShellKind::S4, ShellKind::S6, ShellKind::S8];
 
     /// Number of nodes.
     pub const fn node_count(self) -> usize {
@@ -94,6 +106,16 @@ impl ShellKind {
             ShellKind::S3 => 3,
             ShellKind::S4 => 4,
             ShellKind::S6 => 6,
+            ShellKind::S8 => 8,
+        }
+    }
+
+    /// Number of nodes the surface is interpolated on: the element's, and
+    /// for S8 an internal centre node, whose DOFs the element condenses.
+    pub const fn interpolation_nodes(self) -> usize {
+        match self {
+            ShellKind::S8 => 9,
+            kind => kind.node_count(),
         }
     }
 
@@ -103,21 +125,24 @@ impl ShellKind {
             ShellKind::S3 => "S3",
             ShellKind::S4 => "S4",
             ShellKind::S6 => "S6",
+            ShellKind::S8 => "S8",
         }
     }
 
     /// True for the quadratic (curved) kinds.
     pub const fn is_quadratic(self) -> bool {
-        matches!(self, ShellKind::S6)
+        matches!(self, ShellKind::S6 | ShellKind::S8)
     }
 
     /// The VTK cell: triangle (5), quadrilateral (9), quadratic triangle
-    /// (22), in the element's node order (VTK's for all three).
+    /// (22), quadratic quadrilateral (23), in the element's node order
+    /// (VTK's for all four).
     pub const fn vtk_cell(self) -> VtkCell {
         match self {
             ShellKind::S3 => VtkCell::in_order(5, 3),
             ShellKind::S4 => VtkCell::in_order(9, 4),
             ShellKind::S6 => VtkCell::in_order(22, 6),
+            ShellKind::S8 => VtkCell::in_order(23, 8),
         }
     }
 
@@ -143,6 +168,16 @@ impl ShellKind {
                     [0.5, 0.0, 0.0],
                     [0.5, 0.5, 0.0],
                     [0.0, 0.5, 0.0],
+                ],
+                ShellKind::S8 => &[
+                    [-1.0, -1.0, 0.0],
+                    [1.0, -1.0, 0.0],
+                    [1.0, 1.0, 0.0],
+                    [-1.0, 1.0, 0.0],
+                    [0.0, -1.0, 0.0],
+                    [1.0, 0.0, 0.0],
+                    [0.0, 1.0, 0.0],
+                    [-1.0, 0.0, 0.0],
                 ],
             },
             build,
@@ -183,6 +218,7 @@ pub(super) const ELEMENT_TYPES: &[ElementType] = &[
     ShellKind::S3.element_type(|id, nodes, s| ShellKind::S3.build(id, nodes, s)),
     ShellKind::S4.element_type(|id, nodes, s| ShellKind::S4.build(id, nodes, s)),
     ShellKind::S6.element_type(|id, nodes, s| ShellKind::S6.build(id, nodes, s)),
+    ShellKind::S8.element_type(|id, nodes, s| ShellKind::S8.build(id, nodes, s)),
 ];
 
 /// A shell element.
@@ -234,7 +270,10 @@ impl ElementBehaviour for Shell {
         let geometry = self.geometry(&element_coords(model, &self.nodes))?;
         Ok(match self.material.density {
             0.0 => MassDistribution::None,
-            rho => MassDistribution::Points(geometry.mass_points(rho)),
+            _ => {
+                let condensation = self.condensation(&geometry)?;
+                MassDistribution::Points(self.mass_points(&geometry, &condensation))
+            }
         })
     }
 
@@ -268,9 +307,8 @@ impl Shell {
     pub fn matrices(&self, coords: &[[f64; 3]]) -> Result<ElementMatrices, FemError> {
         let geometry = self.geometry(coords)?;
         let nd = 6 * self.kind.node_count();
-        let m = &self.material;
-        let stiffness = geometry.stiffness(m.youngs_modulus, m.poisson_ratio);
-        let mass = mitc::mass_matrix(&geometry.mass_points(m.density), nd);
+        let (stiffness, condensation) = self.condensed_stiffness(&geometry)?;
+        let mass = mitc::mass_matrix(&self.mass_points(&geometry, &condensation), nd);
         Ok(ElementMatrices {
             dofs: ElementBehaviour::dofs(self),
             stiffness,
@@ -300,7 +338,75 @@ impl Shell {
             )));
         }
         let m = &self.material;
-        Ok(geometry.stresses(m.youngs_modulus, m.poisson_ratio, u_e, columns))
+        match self.condensation(&geometry)? {
+            None => Ok(geometry.stresses(m.youngs_modulus, m.poisson_ratio, u_e, columns)),
+            Some(t) => {
+                let full: Vec<f64> = u_e.chunks_exact(nd).flat_map(|u| mat_vec(&t, u)).collect();
+                Ok(geometry.stresses(m.youngs_modulus, m.poisson_ratio, &full, columns))
+            }
+        }
+    }
+
+    /// The stiffness over the element's DOFs and, for S8, the map `T` from
+    /// them to the interpolation DOFs (its centre node's six follow by
+    /// static condensation, `u_c = -K_cc^-1 K_cb u_b`, so that `T = [I;
+    /// -K_cc^-1 K_cb]` and `K = T^T K_full T = K_bb - K_bc K_cc^-1 K_cb`).
+    fn condensed_stiffness(
+        &self,
+        geometry: &Geometry,
+    ) -> Result<(faer::Mat<f64>, Option<faer::Mat<f64>>), FemError> {
+        let m = &self.material;
+        let full = geometry.stiffness(m.youngs_modulus, m.poisson_ratio);
+        let nb = 6 * self.kind.node_count();
+        let nc = full.nrows() - nb;
+        if nc == 0 {
+            return Ok((full, None));
+        }
+        let kcc = full.as_ref().submatrix(nb, nb, nc, nc).to_owned();
+        let kcb = full.as_ref().submatrix(nb, 0, nc, nb).to_owned();
+        let llt = kcc
+            .llt(faer::Side::Lower)
+            .map_err(|_| self.invalid("its centre node has a singular stiffness".into()))?;
+        let x = llt.solve(&kcb);
+        let t = faer::Mat::from_fn(nb + nc, nb, |r, c| {
+            if r < nb {
+                (r == c) as u8 as f64
+            } else {
+                -x[(r - nb, c)]
+            }
+        });
+        let mut k = full.as_ref().submatrix(0, 0, nb, nb).to_owned();
+        k -= kcb.transpose() * &x;
+        // Exactly symmetric, as the other elements' matrices are.
+        let k = faer::Mat::from_fn(nb, nb, |r, c| 0.5 * (k[(r, c)] + k[(c, r)]));
+        Ok((k, Some(t)))
+    }
+
+    /// S8's map `T` from the element's DOFs to the interpolation DOFs
+    /// ([`Self::condensed_stiffness`]); `None` for the other kinds, whose
+    /// nodes are their interpolation nodes.
+    fn condensation(&self, geometry: &Geometry) -> Result<Option<faer::Mat<f64>>, FemError> {
+        if self.kind.interpolation_nodes() == self.kind.node_count() {
+            return Ok(None);
+        }
+        self.condensed_stiffness(geometry).map(|(_, t)| t)
+    }
+
+    /// The mass slices ([`Geometry::mass_points`]) moving with the
+    /// element's DOFs (through `condensation`, S8's `T`).
+    fn mass_points(
+        &self,
+        geometry: &Geometry,
+        condensation: &Option<faer::Mat<f64>>,
+    ) -> Vec<super::MassPoint> {
+        let mut points = geometry.mass_points(self.material.density);
+        if let Some(t) = condensation {
+            for p in &mut points {
+                p.translation = &p.translation * t;
+                p.rotation = &p.rotation * t;
+            }
+        }
+        points
     }
 
     fn invalid(&self, reason: String) -> FemError {
@@ -338,9 +444,17 @@ impl Shell {
         let size = bounding_diagonal(coords);
         // The mean normal: of the diagonals (S4) or the two edges (S3).
         let mean = match kind {
-            ShellKind::S4 => cross(sub(rel[2], rel[0]), sub(rel[3], rel[1])),
+            ShellKind::S4 | ShellKind::S8 => cross(sub(rel[2], rel[0]), sub(rel[3], rel[1])),
             ShellKind::S3 | ShellKind::S6 => cross(rel[1], rel[2]),
         };
+        if kind == ShellKind::S8 {
+            // The centre on the serendipity surface through the eight
+            // nodes: the nine-node surface is then the eight-node one.
+            rel[8] = std::array::from_fn(|i| {
+                -0.25 * (0..4).map(|a| rel[a][i]).sum::<f64>()
+                    + 0.5 * (4..8).map(|a| rel[a][i]).sum::<f64>()
+            });
+        }
         let area = norm(mean);
         if area.is_nan() || area <= ZERO_AREA * size * size {
             return Err(self.invalid(format!(
@@ -366,10 +480,13 @@ impl Shell {
             let normal = cross(p.g[0], p.g[1]);
             let along = dot(normal, unit(mean));
             if along.is_nan() || along <= ZERO_AREA * size * size {
+                let at = match self.nodes.get(a) {
+                    Some(node) => format!("its node {node}"),
+                    None => "its centre".into(),
+                };
                 return Err(self.invalid(format!(
-                    "inverted or degenerate at its node {} (zero or negative Jacobian; \
-                     a collapsed quadrilateral is an S3)",
-                    self.nodes.get(a).copied().unwrap_or_default()
+                    "inverted or degenerate at {at} (zero or negative Jacobian; a collapsed \
+                     quadrilateral is an S3)"
                 )));
             }
             director[a] = unit(normal);

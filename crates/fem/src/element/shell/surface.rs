@@ -5,21 +5,27 @@
 
 use super::ShellKind;
 
-/// Largest number of nodes of a shell element.
-pub(super) const MAX_NODES: usize = 6;
+/// Largest number of interpolation nodes of a shell element (S8: its eight
+/// and an internal centre node).
+pub(super) const MAX_NODES: usize = 9;
 
 /// Largest number of points of a stiffness rule.
 pub(super) const MAX_POINTS: usize = 4;
 
 /// `1 / sqrt(3)`: the two-point Gauss abscissa.
-const G2: f64 = 0.577_350_269_189_625_8;
+pub(super) const G2: f64 = 0.577_350_269_189_625_8;
+
+/// `sqrt(3 / 5)`: the outer three-point Gauss abscissa.
+pub(super) const G3: f64 = 0.774_596_669_241_483_4;
 
 /// Shape functions `n` and their derivatives `dn[a] = [dN_a/dr, dN_a/ds]`
 /// at `(r, s)`, in the Abaqus node order. S4: the bilinear quadrilateral on
 /// `[-1, 1]^2`, corners `(-1, -1), (1, -1), (1, 1), (-1, 1)`; S3: the linear
 /// triangle, corners `(0, 0), (1, 0), (0, 1)`; S6: the quadratic triangle,
 /// those corners and then the mid-side nodes `(1/2, 0), (1/2, 1/2), (0,
-/// 1/2)`.
+/// 1/2)`; S8: the nine-node Lagrangian quadrilateral, its corners as S4's,
+/// then the mid-side nodes `(0, -1), (1, 0), (0, 1), (-1, 0)` and the
+/// internal centre `(0, 0)`.
 pub(super) fn evaluate(
     kind: ShellKind,
     [r, s]: [f64; 2],
@@ -56,8 +62,33 @@ pub(super) fn evaluate(
                 [-4.0 * s, 4.0 * (l - s)],
             ]);
         }
+        ShellKind::S8 => {
+            // One-dimensional quadratics through -1, 0, 1 and derivatives.
+            let q = |x: f64| [0.5 * x * (x - 1.0), 1.0 - x * x, 0.5 * x * (x + 1.0)];
+            let dq = |x: f64| [x - 0.5, -2.0 * x, x + 0.5];
+            let (qr, qs, dqr, dqs) = (q(r), q(s), dq(r), dq(s));
+            for (a, [ra, sa]) in QUAD9_NODES.iter().enumerate() {
+                let (i, j) = ((ra + 1.0) as usize, (sa + 1.0) as usize);
+                n[a] = qr[i] * qs[j];
+                dn[a] = [dqr[i] * qs[j], qr[i] * dqs[j]];
+            }
+        }
     }
 }
+
+/// The nine interpolation nodes of S8: its corners, its mid-side nodes and
+/// the internal centre.
+const QUAD9_NODES: [[f64; 2]; 9] = [
+    [-1.0, -1.0],
+    [1.0, -1.0],
+    [1.0, 1.0],
+    [-1.0, 1.0],
+    [0.0, -1.0],
+    [1.0, 0.0],
+    [0.0, 1.0],
+    [-1.0, 0.0],
+    [0.0, 0.0],
+];
 
 const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
 const TRIANGLE_NODES: [[f64; 2]; 6] = [
@@ -69,10 +100,11 @@ const TRIANGLE_NODES: [[f64; 2]; 6] = [
     [0.0, 0.5],
 ];
 
-/// The nodes' natural coordinates.
+/// The interpolation nodes' natural coordinates (S8: with its centre).
 pub(super) fn node_coordinates(kind: ShellKind) -> &'static [[f64; 2]] {
     match kind {
         ShellKind::S4 => &QUAD_NODES,
+        ShellKind::S8 => &QUAD9_NODES,
         ShellKind::S3 => &TRIANGLE_NODES[..3],
         ShellKind::S6 => &TRIANGLE_NODES,
     }
@@ -84,6 +116,18 @@ const GAUSS_2X2: [([f64; 2], f64); 4] = [
     ([G2, G2], 1.0),
     ([-G2, G2], 1.0),
 ];
+
+const GAUSS_3X3: [([f64; 2], f64); 9] = {
+    const W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+    const X: [f64; 3] = [-G3, 0.0, G3];
+    let mut out = [([0.0; 2], 0.0); 9];
+    let mut k = 0;
+    while k < 9 {
+        out[k] = ([X[k % 3], X[k / 3]], W[k % 3] * W[k / 3]);
+        k += 1;
+    }
+    out
+};
 
 /// The interior three-point triangle rule (exact for quadratics).
 const TRIANGLE_3: [([f64; 2], f64); 3] = [
@@ -108,24 +152,36 @@ const TRIANGLE_6: [([f64; 2], f64); 6] = {
     ]
 };
 
-/// The in-plane rule of the stiffness and the stresses: 2 x 2 Gauss points
-/// for S4 (in the order of the corners they are nearest), the three-point
-/// interior rule for S3 and S6 (reduced for S6); weights sum to the area of
-/// the natural element (4 and 1/2).
+/// The in-plane rule of the stiffness: 2 x 2 Gauss points for S4, 3 x 3
+/// for S8, the three-point interior rule for S3 and S6 (reduced for S6);
+/// weights sum to the area of the natural element (4 and 1/2).
 pub(super) fn rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
         ShellKind::S4 => &GAUSS_2X2,
+        ShellKind::S8 => &GAUSS_3X3,
         ShellKind::S3 | ShellKind::S6 => &TRIANGLE_3,
+    }
+}
+
+/// The in-plane points the stresses are evaluated at and extrapolated
+/// from: the stiffness rule's, except S8's 2 x 2 Gauss points (in the
+/// order of the corners they are nearest).
+pub(super) fn stress_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
+    match kind {
+        ShellKind::S8 => &GAUSS_2X2,
+        _ => rule(kind),
     }
 }
 
 /// The in-plane rule of the mass and of the drilling penalty: exact for
 /// products of two shape functions on an undistorted element (S4: 2 x 2,
 /// S3: 3 points, S6: 6 points), and with at least as many points as nodes,
-/// so that the penalty holds every node's rotation about the normal.
+/// so that the penalty holds every node's rotation about the normal (S8:
+/// 3 x 3).
 pub(super) fn full_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
         ShellKind::S4 => &GAUSS_2X2,
+        ShellKind::S8 => &GAUSS_3X3,
         ShellKind::S3 => &TRIANGLE_3,
         ShellKind::S6 => &TRIANGLE_6,
     }
@@ -135,18 +191,18 @@ pub(super) fn full_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
 /// the quadratic variation of a flat shell's strain energy.
 pub(super) const THICKNESS_RULE: [(f64, f64); 2] = [(-G2, 1.0), (G2, 1.0)];
 
-/// The weights that carry values at the points of [`rule`] to the nodes:
-/// `value(node a) = sum_p weights[a][p] value(point p)`, by the bilinear
-/// (S4) or linear (S3, S6) polynomial through the points. Exact for values
-/// that polynomial holds (a constant, a linear field).
+/// The weights that carry values at the points of [`stress_rule`] to the
+/// nodes: `value(node a) = sum_p weights[a][p] value(point p)`, by the
+/// bilinear (S4, S8) or linear (S3, S6) polynomial through the points.
+/// Exact for values that polynomial holds (a constant, a linear field).
 pub(super) fn extrapolation(kind: ShellKind) -> [[f64; MAX_POINTS]; MAX_NODES] {
     let basis = |[r, s]: [f64; 2]| -> [f64; MAX_POINTS] {
         match kind {
-            ShellKind::S4 => [1.0, r, s, r * s],
+            ShellKind::S4 | ShellKind::S8 => [1.0, r, s, r * s],
             ShellKind::S3 | ShellKind::S6 => [1.0, r, s, 0.0],
         }
     };
-    let points = rule(kind);
+    let points = stress_rule(kind);
     let np = points.len();
     // P[p][q] = basis_q(point p); weights[a] = basis(node a) P^-1.
     let mut p = [[0.0; MAX_POINTS]; MAX_POINTS];
@@ -207,13 +263,13 @@ mod tests {
             let (mut n, mut dn) = ([0.0; MAX_NODES], [[0.0; 2]; MAX_NODES]);
             for (a, xi) in node_coordinates(kind).iter().enumerate() {
                 evaluate(kind, *xi, &mut n, &mut dn);
-                for (b, nb) in n.iter().enumerate().take(kind.node_count()) {
+                for (b, nb) in n.iter().enumerate().take(kind.interpolation_nodes()) {
                     let want = if a == b { 1.0 } else { 0.0 };
                     assert!((nb - want).abs() < 1e-15, "{kind:?} N{b} at node {a}");
                 }
             }
             evaluate(kind, [0.2, 0.3], &mut n, &mut dn);
-            let nn = kind.node_count();
+            let nn = kind.interpolation_nodes();
             assert!((n[..nn].iter().sum::<f64>() - 1.0).abs() < 1e-15);
             for d in 0..2 {
                 assert!(dn[..nn].iter().map(|g| g[d]).sum::<f64>().abs() < 1e-15);
@@ -242,7 +298,7 @@ mod tests {
             let field = |[r, s]: [f64; 2]| 3.0 - 2.0 * r + 0.5 * s;
             let w = extrapolation(kind);
             for (a, xi) in node_coordinates(kind).iter().enumerate() {
-                let at: f64 = rule(kind)
+                let at: f64 = stress_rule(kind)
                     .iter()
                     .enumerate()
                     .map(|(p, (x, _))| w[a][p] * field(*x))

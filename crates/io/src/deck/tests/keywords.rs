@@ -188,9 +188,9 @@ fn bad_decks_name_the_line_and_the_culprit() {
         (
             BRICKS,
             "*Element, type=c3d8",
-            "*ELEMENT, TYPE=S8R",
-            "TYPE=S8R",
-            &["element type S8R is not supported", "quadratic shells"],
+            "*ELEMENT, TYPE=S8R5",
+            "TYPE=S8R5",
+            &["element type S8R5 is not supported", "five DOFs per node"],
         ),
         (
             BRICKS,

@@ -1,4 +1,4 @@
-//! S3/S4 shells and their `*SHELL SECTION`s.
+//! S3/S4/S8 shells and their `*SHELL SECTION`s.
 
 use super::*;
 use flexbody_fem::element::{Shell, ShellKind};
@@ -51,6 +51,47 @@ fn s4_and_s3_shells_with_their_sections() {
     // Six DOFs on each of the seven nodes.
     assert_eq!(deck.model.dof_map().len(), 42);
     assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+}
+
+#[test]
+fn s8_shells_read_with_their_eight_nodes_and_s8r_as_s8() {
+    // The two quadrilaterals as one S8 over both (mid-side nodes 8..11)
+    // and one S8R (a curved cell beside it).
+    let text = SHELLS
+        .replace(
+            "7, 3., 0.5, 0.\n",
+            "7, 3., 0.5, 0.\n8, 1., 0., 0.\n9, 2., 0.5, 0.\n10, 1., 1., 0.\n11, 0., 0.5, 0.\n\
+             12, 3., 0., 0.\n13, 4., 0., 0.\n14, 4., 1., 0.\n15, 3.5, 0., 0.01\n\
+             16, 4., 0.5, 0.\n17, 3.5, 1., 0.\n19, 3., 1., 0.\n",
+        )
+        .replace(
+            "*ELEMENT, TYPE=S4, ELSET=QUADS\n1, 1, 2, 5, 4\n2, 2, 3, 6, 5\n",
+            "*ELEMENT, TYPE=S8, ELSET=QUADS\n1, 1, 3, 6, 4, 8, 9, 10, 11\n\
+             *ELEMENT, TYPE=S8R, ELSET=QUADS\n2, 12, 13, 14, 19, 15, 16, 17, 7\n",
+        )
+        .replace("*ELEMENT, TYPE=S3, ELSET=TRIS\n3, 3, 7, 6\n", "")
+        .replace(
+            "*SHELL SECTION, ELSET=TRIS, MATERIAL=STEEL, OFFSET=SPOS\n0.003, 5\n",
+            "",
+        );
+    let deck = parse(&text).unwrap();
+    let kinds: Vec<(ShellKind, usize)> = deck
+        .model
+        .elements()
+        .iter()
+        .map(|e| match e {
+            Element::Shell(s) => (s.kind, s.nodes.len()),
+            other => panic!("not a shell: {other:?}"),
+        })
+        .collect();
+    assert_eq!(kinds, [(ShellKind::S8, 8), (ShellKind::S8, 8)]);
+    assert!(
+        deck.warnings
+            .iter()
+            .any(|w| w.contains("S8R elements are read as S8")),
+        "{:?}",
+        deck.warnings
+    );
 }
 
 #[test]

@@ -41,12 +41,19 @@ fn with_midsides(corners: &[[f64; 3]], lift: &[f64]) -> Vec<[f64; 3]> {
     x
 }
 
+/// [`warped_quad`] with mid-side nodes lifted off its edges (a curved
+/// S8).
+fn curved_quad8() -> Vec<[f64; 3]> {
+    with_midsides(&warped_quad(), &[0.02, -0.03, 0.01, 0.015])
+}
+
 /// Every kind on a distorted element: warped, skew, curved.
-fn distorted() -> [(ShellKind, Vec<[f64; 3]>); 3] {
+fn distorted() -> [(ShellKind, Vec<[f64; 3]>); 4] {
     [
         (ShellKind::S4, warped_quad()),
         (ShellKind::S3, skew_triangle()),
         (ShellKind::S6, curved_triangle6()),
+        (ShellKind::S8, curved_quad8()),
     ]
 }
 
@@ -126,23 +133,59 @@ fn one_element_has_six_zero_energy_modes_and_no_spurious_one() {
 fn mass_is_the_shells_mass_with_its_rotary_inertia() {
     // A flat rectangle 0.8 x 0.5 m, 20 mm thick: total mass rho a A on each
     // translation, rho a^3 / 12 A about the in-plane axes, nothing about
-    // the normal.
-    let coords = vec![[0.0; 3], [0.8, 0.0, 0.0], [0.8, 0.5, 0.0], [0.0, 0.5, 0.0]];
+    // the normal; as S4 and as S8 (whose condensed centre node moves
+    // rigidly with a rigid motion of the others).
+    let corners = vec![[0.0; 3], [0.8, 0.0, 0.0], [0.8, 0.5, 0.0], [0.0, 0.5, 0.0]];
     let (a, area, rho) = (0.02, 0.4, 8000.0);
-    let m = shell(ShellKind::S4, a, 0.0).matrices(&coords).unwrap().mass;
-    let total = |dof: usize| -> f64 {
-        (0..4)
-            .flat_map(|p| (0..4).map(move |q| (p, q)))
-            .map(|(p, q)| m[(6 * p + dof, 6 * q + dof)])
-            .sum()
-    };
-    for d in 0..3 {
-        assert!((total(d) - rho * a * area).abs() < 1e-12 * rho * a * area);
+    for (kind, coords) in [
+        (ShellKind::S4, corners.clone()),
+        (ShellKind::S8, with_midsides(&corners, &[0.0; 4])),
+    ] {
+        let n = coords.len();
+        let m = shell(kind, a, 0.0).matrices(&coords).unwrap().mass;
+        let total = |dof: usize| -> f64 {
+            (0..n)
+                .flat_map(|p| (0..n).map(move |q| (p, q)))
+                .map(|(p, q)| m[(6 * p + dof, 6 * q + dof)])
+                .sum()
+        };
+        for d in 0..3 {
+            let want = rho * a * area;
+            assert!((total(d) - want).abs() < 1e-12 * want, "{kind:?} {d}");
+        }
+        let rotary = rho * a.powi(3) / 12.0 * area;
+        if kind == ShellKind::S4 {
+            assert!((total(3) - rotary).abs() < 1e-12 * rotary);
+            assert!((total(4) - rotary).abs() < 1e-12 * rotary);
+            assert_eq!(total(5), 0.0);
+        }
+        // Rigid rotations about the centroid's axes: the plate's moments
+        // of inertia plus the rotary inertia in the plane.
+        let centre = [0.4, 0.25, 0.0];
+        let mass = rho * a * area;
+        let want = [
+            mass * 0.5 * 0.5 / 12.0 + rotary,
+            mass * 0.8 * 0.8 / 12.0 + rotary,
+            mass * (0.8 * 0.8 + 0.5 * 0.5) / 12.0,
+        ];
+        for (axis, want) in want.iter().enumerate() {
+            let mut w = [0.0; 3];
+            w[axis] = 1.0;
+            let u: Vec<f64> = coords
+                .iter()
+                .flat_map(|x| {
+                    let r = [0, 1, 2].map(|i| x[i] - centre[i]);
+                    let t = cross(w, r);
+                    [t[0], t[1], t[2], w[0], w[1], w[2]]
+                })
+                .collect();
+            let inertia: f64 = mat_vec(&m, &u).iter().zip(&u).map(|(x, y)| x * y).sum();
+            assert!(
+                (inertia - want).abs() < 1e-12 * want,
+                "{kind:?} axis {axis}: {inertia} against {want}"
+            );
+        }
     }
-    let rotary = rho * a.powi(3) / 12.0 * area;
-    assert!((total(3) - rotary).abs() < 1e-12 * rotary);
-    assert!((total(4) - rotary).abs() < 1e-12 * rotary);
-    assert_eq!(total(5), 0.0);
 }
 
 /// The patch of MacNeal and Harder (1985): a 0.24 x 0.12 rectangle of five
@@ -167,7 +210,7 @@ fn patch(kind: ShellKind) -> (Vec<[f64; 3]>, Vec<Vec<usize>>) {
         [4, 5, 6, 7],
     ];
     let linear: Vec<Vec<usize>> = match kind {
-        ShellKind::S4 => quads.iter().map(|q| q.to_vec()).collect(),
+        ShellKind::S4 | ShellKind::S8 => quads.iter().map(|q| q.to_vec()).collect(),
         ShellKind::S3 | ShellKind::S6 => quads
             .iter()
             .flat_map(|q| [vec![q[0], q[1], q[2]], vec![q[0], q[2], q[3]]])
@@ -403,6 +446,15 @@ fn bad_shells_are_refused_naming_the_element() {
     let err = error_of(&shell(ShellKind::S3, 0.01, 0.0), &line);
     assert!(
         err.contains("element 7") && err.contains("zero area"),
+        "{err}"
+    );
+    // An S8 whose mid-side node sits beyond a quarter of its edge: the
+    // Jacobian changes sign inside the element.
+    let mut folded = with_midsides(&flat, &[0.0; 4]);
+    folded[4][0] = 0.9;
+    let err = error_of(&shell(ShellKind::S8, 0.01, 0.0), &folded);
+    assert!(
+        err.contains("element 7") && err.contains("Jacobian"),
         "{err}"
     );
     // Clockwise numbering is no error: the normal turns round.

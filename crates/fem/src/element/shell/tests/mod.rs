@@ -62,6 +62,9 @@ impl Grid {
                         cells.push(vec![a, b, c]);
                         cells.push(vec![a, c, d]);
                     }
+                    ShellKind::S8 => {
+                        cells.push(vec![a, b, c, d, mid(1, 0), mid(2, 1), mid(1, 2), mid(0, 1)])
+                    }
                     ShellKind::S6 => {
                         cells.push(vec![a, b, c, mid(1, 0), mid(2, 1), mid(1, 1)]);
                         cells.push(vec![a, c, d, mid(1, 1), mid(1, 2), mid(0, 1)]);

@@ -109,10 +109,16 @@ fn thin_simply_supported_plate_matches_kirchhoff() {
             let f = frequencies(&plate(kind, n, 0.05, Edges::SimplySupported), 4);
             errors.push(worst(&format!("{kind:?} {n}x{n} thin SS"), &f, &exact));
         }
-        assert_second_order(kind, &errors);
         // Measured at 32 x 32: S4 0.39 %, S3 1.9 %, S6 0.26 % (MITC3 and
         // S6 are the stiffer elements on coarse meshes of thin plates: 114
-        // and 17 % at 8 x 8, where S4 is within 7.2 %).
+        // and 17 % at 8 x 8, where S4 is within 7.2 %). S8 is within
+        // 0.036 % from 8 x 8 on: the difference between its Mindlin plate
+        // and Kirchhoff's, which leaves out shear.
+        if kind == ShellKind::S8 {
+            assert!(errors.iter().all(|e| *e < 1e-3), "{kind:?}: {errors:?}");
+        } else {
+            assert_second_order(kind, &errors);
+        }
         let bound = if kind == ShellKind::S4 { 0.005 } else { 0.02 };
         assert!(errors[2] < bound, "{kind:?}: {errors:?}");
     }
@@ -155,7 +161,8 @@ fn thick_simply_supported_plate_matches_mindlin() {
             errors.push(worst(&format!("{kind:?} {n}x{n} thick SS"), &f, &exact));
         }
         assert_second_order(kind, &errors);
-        // Measured at 32 x 32: S4 0.37 %, S3 0.86 %, S6 0.003 %.
+        // Measured at 32 x 32: S4 0.37 %, S3 0.86 %, S6 0.003 %, S8
+        // 0.023 % (0.40 % at 8 x 8).
         assert!(errors[2] < 0.01, "{kind:?}: {errors:?}");
     }
 }
@@ -172,7 +179,7 @@ fn cantilevered_thin_plate_matches_nafems_fv16() {
         // NAFEMS' values are Barton's (Ritz) parameters, 3.492 for the
         // first mode; the element converges to 3.471 (0.4180 Hz), the
         // value later, more accurate solutions give. Measured at 32 x 32:
-        // S4 0.81 %, S3 0.76 %, S6 0.94 % from NAFEMS.
+        // S4 0.81 %, S3 0.76 %, S6 0.94 %, S8 0.98 % from NAFEMS.
         assert!(errors[2] < 0.01, "{kind:?}: {errors:?}");
     }
 }
@@ -192,7 +199,7 @@ fn free_thin_plate_matches_nafems_fv12() {
         }
         // The pair at 4.233 Hz converges to 4.19 Hz, Leissa's 34.80 for
         // the frequency parameter (NAFEMS' value is 35.16): measured at
-        // 32 x 32, S4 0.91 %, S3 0.77 %, S6 1.10 % from NAFEMS.
+        // 32 x 32, S4 0.91 %, S3 0.77 %, S6 1.10 %, S8 1.10 % from NAFEMS.
         assert!(errors[2] < 0.012, "{kind:?}: {errors:?}");
     }
 }
@@ -279,11 +286,17 @@ fn ring_of_shells_bends_as_a_thin_ring_without_membrane_locking() {
             }
             errors.push(worst(&format!("{kind:?} ring of {cells}"), &f[6..], &exact));
         }
-        assert_second_order(kind, &errors);
         // Measured with 96 elements round: 0.46 % (S4), 0.45 % (S3),
         // 0.044 % (S6; with 24 round, two triangles per cell, S6 is 24 %
         // too stiff: membrane locking on a coarse curved mesh, gone at 48,
-        // 1.1 %).
+        // 1.1 %). S8 is within 0.072 % with 24 round (no membrane
+        // locking) and from 48 round at the closed form's own neglect of
+        // shear and extension (1.1e-4, ~(a / R)^2).
+        if kind == ShellKind::S8 {
+            assert!(errors.iter().all(|e| *e < 1e-3), "{kind:?}: {errors:?}");
+        } else {
+            assert_second_order(kind, &errors);
+        }
         assert!(errors[2] < 0.005, "{kind:?}: {errors:?}");
     }
 }
