@@ -481,3 +481,73 @@ fn shells_against_calculix_which_expands_them_into_solids() {
     let apart16 = (ccx16[5] - ours16[5]) / ours16[5];
     assert!(apart16 > 0.05 && apart16 < 0.15, "{apart16}");
 }
+
+#[test]
+fn quadratic_shells_in_a_model_files_tables_are_the_decks_shells() {
+    // One S8 and one S6 beside it, sharing an edge (nodes 3, 6, 9).
+    let nodes = [
+        (1, 0.0, 0.0),
+        (2, 0.1, 0.0),
+        (3, 0.2, 0.0),
+        (4, 0.0, 0.05),
+        (6, 0.2, 0.05),
+        (7, 0.0, 0.1),
+        (8, 0.1, 0.1),
+        (9, 0.2, 0.1),
+        (10, 0.3, 0.0),
+        (11, 0.25, 0.0),
+        (12, 0.25, 0.05),
+    ];
+    let cells: [(&str, Vec<u64>); 2] = [
+        ("S8", vec![1, 3, 9, 7, 2, 6, 8, 4]),
+        ("S6", vec![3, 10, 9, 11, 12, 6]),
+    ];
+    let mut deck = String::from("*NODE\n");
+    for (id, x, y) in &nodes {
+        deck += &format!("{id}, {x}, {y}, 0.0\n");
+    }
+    for (e, (kind, cell)) in cells.iter().enumerate() {
+        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
+        deck += &format!(
+            "*ELEMENT, TYPE={kind}, ELSET=PLATE\n{}, {}\n",
+            e + 1,
+            list.join(", ")
+        );
+    }
+    deck += "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n\
+             *SHELL SECTION, ELSET=PLATE, MATERIAL=STEEL\n0.004\n";
+    let listed: Vec<String> = nodes
+        .iter()
+        .map(|(id, x, y)| format!("[{id}, {x}, {y}, 0.0]"))
+        .collect();
+    let mut toml = format!(
+        "nodes = [{}]\n\n[[material]]\nname = \"steel\"\nyoungs_modulus = 2.1e11\n\
+         poisson_ratio = 0.3\ndensity = 7850.0\n",
+        listed.join(", ")
+    );
+    for (e, (_, cell)) in cells.iter().enumerate() {
+        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
+        toml += &format!(
+            "\n[[element]]\ntype = \"shell\"\nid = {}\nnodes = [{}]\nmaterial = \"steel\"\n\
+             thickness = 0.004\n",
+            e + 1,
+            list.join(", ")
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (d, t) = (dir.path().join("q.inp"), dir.path().join("q.toml"));
+    std::fs::write(&d, deck).unwrap();
+    std::fs::write(&t, toml).unwrap();
+    let a = flexbody::input::load(&d, &Default::default()).unwrap();
+    let b = flexbody::input::load(&t, &Default::default()).unwrap();
+    assert_eq!(a.sub.dof_map.dofs(), b.sub.dof_map.dofs());
+    assert_eq!(a.sub.dof_map.len(), 6 * nodes.len());
+    assert_eq!(
+        a.sub.matrices.stiffness.to_dense(),
+        b.sub.matrices.stiffness.to_dense()
+    );
+    assert_eq!(
+        a.sub.matrices.mass.to_dense(),
+        b.sub.matrices.mass.to_dense()
+    );
+}
