@@ -257,6 +257,29 @@ pub(crate) fn element_coords(model: &Model, nodes: &[NodeId]) -> Vec<[f64; 3]> {
 }
 
 /// `y = A x` for a small dense matrix and a slice.
+/// Static condensation of the DOFs after the first `nb` of a symmetric
+/// element matrix `k`: the stiffness `K_bb - K_bc K_cc^-1 K_cb` over the
+/// kept DOFs (symmetric to the last bit, as every element's matrices are)
+/// and the map `X = -K_cc^-1 K_cb` that gives the condensed DOFs from the
+/// kept ones; `None` if `K_cc` is not positive definite.
+pub(crate) fn condense(k: &Mat<f64>, nb: usize) -> Option<(Mat<f64>, Mat<f64>)> {
+    use faer::linalg::solvers::Solve;
+    let nc = k.nrows() - nb;
+    let kcc = k.as_ref().submatrix(nb, nb, nc, nc).to_owned();
+    let kcb = k.as_ref().submatrix(nb, 0, nc, nb).to_owned();
+    let x = -kcc.llt(faer::Side::Lower).ok()?.solve(&kcb);
+    let mut out = k.as_ref().submatrix(0, 0, nb, nb).to_owned();
+    out += kcb.transpose() * &x;
+    for c in 0..nb {
+        for r in 0..c {
+            let v = 0.5 * (out[(r, c)] + out[(c, r)]);
+            out[(r, c)] = v;
+            out[(c, r)] = v;
+        }
+    }
+    Some((out, x))
+}
+
 pub(crate) fn mat_vec(a: &Mat<f64>, x: &[f64]) -> Vec<f64> {
     (0..a.nrows())
         .map(|i| (0..a.ncols()).map(|j| a[(i, j)] * x[j]).sum())

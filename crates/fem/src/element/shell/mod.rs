@@ -63,13 +63,14 @@
 mod mitc;
 mod surface;
 
-use super::{element_coords, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, VtkCell};
+use super::{
+    condense, element_coords, mat_vec, node_dofs, ElementBehaviour, ElementMatrices, VtkCell,
+};
 use super::{Element, ElementType, MassDistribution, SectionKind, SectionValues, StressLayer};
 use crate::dof::{Dof, DofKind};
 use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
-use faer::linalg::solvers::Solve;
 use mitc::{cross, dot, norm, unit, Geometry};
 use surface::MAX_NODES;
 
@@ -358,27 +359,18 @@ impl Shell {
         let m = &self.material;
         let full = geometry.stiffness(m.youngs_modulus, m.poisson_ratio);
         let nb = 6 * self.kind.node_count();
-        let nc = full.nrows() - nb;
-        if nc == 0 {
+        if full.nrows() == nb {
             return Ok((full, None));
         }
-        let kcc = full.as_ref().submatrix(nb, nb, nc, nc).to_owned();
-        let kcb = full.as_ref().submatrix(nb, 0, nc, nb).to_owned();
-        let llt = kcc
-            .llt(faer::Side::Lower)
-            .map_err(|_| self.invalid("its centre node has a singular stiffness".into()))?;
-        let x = llt.solve(&kcb);
-        let t = faer::Mat::from_fn(nb + nc, nb, |r, c| {
+        let (k, x) = condense(&full, nb)
+            .ok_or_else(|| self.invalid("its centre node has a singular stiffness".into()))?;
+        let t = faer::Mat::from_fn(full.nrows(), nb, |r, c| {
             if r < nb {
                 (r == c) as u8 as f64
             } else {
-                -x[(r - nb, c)]
+                x[(r - nb, c)]
             }
         });
-        let mut k = full.as_ref().submatrix(0, 0, nb, nb).to_owned();
-        k -= kcb.transpose() * &x;
-        // Exactly symmetric, as the other elements' matrices are.
-        let k = faer::Mat::from_fn(nb, nb, |r, c| 0.5 * (k[(r, c)] + k[(c, r)]));
         Ok((k, Some(t)))
     }
 

@@ -100,14 +100,15 @@ mod shape;
 pub mod topology;
 mod uniform_strain;
 
-use super::{element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell, TRANSLATIONS};
+use super::{
+    condense, element_coords, node_dofs, ElementBehaviour, ElementMatrices, VtkCell, TRANSLATIONS,
+};
 use super::{Element, ElementType, SectionKind, SectionValues};
 use crate::anisotropy::Voigt;
 use crate::dof::Dof;
 use crate::model::{Model, NodeId};
 use crate::section::Material;
 use crate::FemError;
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 use quadrature::Rule;
 use shape::MAX_NODES;
@@ -425,9 +426,13 @@ impl Solid {
         let (k, m) = self.integrate(&geometry, true)?;
         let stiffness = match self.kind.incompatible_modes() {
             0 => k,
-            _ => condensed(&k, nd).ok_or_else(|| {
-                self.invalid("its incompatible modes have a singular stiffness".into())
-            })?,
+            _ => {
+                condense(&k, nd)
+                    .ok_or_else(|| {
+                        self.invalid("its incompatible modes have a singular stiffness".into())
+                    })?
+                    .0
+            }
         };
         let mass = Mat::from_fn(nd, nd, |r, c| {
             if r % 3 != c % 3 {
@@ -525,14 +530,10 @@ impl Solid {
             return Ok(None);
         }
         let (k, _) = self.integrate(geometry, false)?;
-        let nd = 3 * self.kind.node_count();
-        let ne = k.nrows() - nd;
-        let kaa = k.as_ref().submatrix(nd, nd, ne, ne).to_owned();
-        let kau = k.as_ref().submatrix(nd, 0, ne, nd).to_owned();
-        let llt = kaa
-            .llt(faer::Side::Lower)
-            .map_err(|_| self.invalid("its incompatible modes have a singular stiffness".into()))?;
-        Ok(Some(-llt.solve(&kau)))
+        let (_, x) = condense(&k, 3 * self.kind.node_count()).ok_or_else(|| {
+            self.invalid("its incompatible modes have a singular stiffness".into())
+        })?;
+        Ok(Some(x))
     }
 
     /// Stresses at the element's nodes (Pa, Voigt order) from the element
@@ -849,28 +850,6 @@ fn add_stiffness_general(
             }
         }
     }
-}
-
-/// `K_uu - K_ua K_aa^-1 K_au` of `k` split after its first `nd` rows and
-/// columns (the nodes' DOFs), symmetric; `None` if `K_aa` is not positive
-/// definite.
-fn condensed(k: &Mat<f64>, nd: usize) -> Option<Mat<f64>> {
-    let ne = k.nrows() - nd;
-    let kaa = k.as_ref().submatrix(nd, nd, ne, ne).to_owned();
-    let kau = k.as_ref().submatrix(nd, 0, ne, nd).to_owned();
-    let x = kaa.llt(faer::Side::Lower).ok()?.solve(&kau);
-    let kuu = k.as_ref().submatrix(0, 0, nd, nd);
-    let mut out = Mat::from_fn(nd, nd, |r, c| kuu[(r, c)]);
-    out -= kau.transpose() * &x;
-    // Exactly symmetric, as the other elements' matrices are.
-    for c in 0..nd {
-        for r in 0..c {
-            let v = 0.5 * (out[(r, c)] + out[(c, r)]);
-            out[(r, c)] = v;
-            out[(c, r)] = v;
-        }
-    }
-    Some(out)
 }
 
 /// Adds one point's scalar mass `rw N_a N_b` to the upper triangle of `m`
