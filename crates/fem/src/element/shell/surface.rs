@@ -9,7 +9,7 @@ use super::ShellKind;
 /// and an internal centre node).
 pub(super) const MAX_NODES: usize = 9;
 
-/// Largest number of points of a stiffness rule.
+/// Largest number of points of a stress rule ([`stress_rule`]).
 pub(super) const MAX_POINTS: usize = 4;
 
 /// `1 / sqrt(3)`: the two-point Gauss abscissa.
