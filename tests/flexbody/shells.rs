@@ -200,6 +200,36 @@ fn solids_shells_and_beams_assemble_into_one_free_body() {
     assert!((mass - want).abs() < 1e-9 * want, "{mass} against {want}");
 }
 
+/// A model file of steel shells: `nodes` `(id, x, y)` at height `z`, one
+/// `[[element]] type = "shell"` per cell (ids from 1) with the keys
+/// `shell_keys` (thickness, offset).
+fn shell_model_file<N: std::fmt::Display>(
+    nodes: &[(N, f64, f64)],
+    z: &str,
+    cells: &[Vec<N>],
+    shell_keys: &str,
+) -> String {
+    let listed: Vec<String> = nodes
+        .iter()
+        .map(|(id, x, y)| format!("[{id}, {x}, {y}, {z}]"))
+        .collect();
+    let mut toml = format!(
+        "nodes = [{}]\n\n[[material]]\nname = \"steel\"\nyoungs_modulus = 2.1e11\n\
+         poisson_ratio = 0.3\ndensity = 7850.0\n",
+        listed.join(", ")
+    );
+    for (e, cell) in cells.iter().enumerate() {
+        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
+        toml += &format!(
+            "\n[[element]]\ntype = \"shell\"\nid = {}\nnodes = [{}]\nmaterial = \"steel\"\n\
+             {shell_keys}",
+            e + 1,
+            list.join(", ")
+        );
+    }
+    toml
+}
+
 /// The shell strip of [`mixed_deck`] alone, clamped at x = 0.1: as a deck,
 /// and as a model file's own `[[element]] type = "shell"` tables.
 fn strip_as_deck_and_model_file(dir: &std::path::Path) -> (PathBuf, PathBuf) {
@@ -245,23 +275,7 @@ fn strip_as_deck_and_model_file(dir: &std::path::Path) -> (PathBuf, PathBuf) {
     for r in 0..3 {
         deck += &format!("{}, 1, 6\n", strip(0, r));
     }
-    let listed: Vec<String> = nodes
-        .iter()
-        .map(|(id, x, y)| format!("[{id}, {x}, {y}, 0.05]"))
-        .collect();
-    let mut toml = format!(
-        "nodes = [{}]\n\n[[material]]\nname = \"steel\"\nyoungs_modulus = 2.1e11\n\
-         poisson_ratio = 0.3\ndensity = 7850.0\n",
-        listed.join(", ")
-    );
-    for (e, cell) in cells.iter().enumerate() {
-        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
-        toml += &format!(
-            "\n[[element]]\ntype = \"shell\"\nid = {}\nnodes = [{}]\nmaterial = \"steel\"\nthickness = 0.004\noffset = 0.25\n",
-            e + 1,
-            list.join(", ")
-        );
-    }
+    let mut toml = shell_model_file(&nodes, "0.05", &cells, "thickness = 0.004\noffset = 0.25\n");
     for r in 0..3 {
         toml += &format!(
             "\n[[boundary]]\nnode = {}\ndofs = [\"ux\", \"uy\", \"uz\", \"rx\", \"ry\", \"rz\"]\n",
@@ -480,24 +494,8 @@ fn quadratic_shells_in_a_model_files_tables_are_the_decks_shells() {
     }
     deck += "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n\
              *SHELL SECTION, ELSET=PLATE, MATERIAL=STEEL\n0.004\n";
-    let listed: Vec<String> = nodes
-        .iter()
-        .map(|(id, x, y)| format!("[{id}, {x}, {y}, 0.0]"))
-        .collect();
-    let mut toml = format!(
-        "nodes = [{}]\n\n[[material]]\nname = \"steel\"\nyoungs_modulus = 2.1e11\n\
-         poisson_ratio = 0.3\ndensity = 7850.0\n",
-        listed.join(", ")
-    );
-    for (e, (_, cell)) in cells.iter().enumerate() {
-        let list: Vec<String> = cell.iter().map(|n| n.to_string()).collect();
-        toml += &format!(
-            "\n[[element]]\ntype = \"shell\"\nid = {}\nnodes = [{}]\nmaterial = \"steel\"\n\
-             thickness = 0.004\n",
-            e + 1,
-            list.join(", ")
-        );
-    }
+    let lists: Vec<Vec<u64>> = cells.iter().map(|(_, cell)| cell.clone()).collect();
+    let toml = shell_model_file(&nodes, "0.0", &lists, "thickness = 0.004\n");
     let dir = tempfile::tempdir().unwrap();
     let (d, t) = (dir.path().join("q.inp"), dir.path().join("q.toml"));
     std::fs::write(&d, deck).unwrap();

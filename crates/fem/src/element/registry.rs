@@ -71,6 +71,9 @@ const REDUCED_SHELL: &str = "reduced integration (R): Abaqus integrates the memb
 const REDUCED_QUADRATIC_SHELL: &str = "reduced integration (R): Abaqus integrates S8R at 2 x 2 \
     points; flexbody's S8 is a MITC shell integrated at 3 x 3 points, free of locking and of \
     spurious modes; frequencies differ at the discretisation level";
+const HYBRID_BEAM: &str = "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, \
+    for beams whose axial and shear stiffness dwarf their bending stiffness; read as flexbody's \
+    beam of the same nodes (a Timoshenko beam), as the base type itself is";
 const REDUCED_BEAM: &str = "reduced integration (R): CalculiX expands beams into a layer of \
     bricks and integrates those with the reduced rule (B31R: C3D8R, B32R: C3D20R); flexbody's \
     beams are beam elements (B31 exact for end loads, B32 integrated at two points along its \
@@ -159,9 +162,7 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
     ElementAlias {
         name: "B31H",
         reads_as: "B31",
-        meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
-            beams whose axial and shear stiffness dwarf their bending stiffness; read as \
-            flexbody's B31 (a Timoshenko beam), as B31 itself is",
+        meaning: HYBRID_BEAM,
     },
     ElementAlias {
         name: "B31R",
@@ -171,9 +172,7 @@ pub const ELEMENT_ALIASES: &[ElementAlias] = &[
     ElementAlias {
         name: "B32H",
         reads_as: "B32",
-        meaning: "hybrid beam (H): Abaqus adds the axial and shear forces as unknowns, for \
-            beams whose axial and shear stiffness dwarf their bending stiffness; read as \
-            flexbody's B32 (a Timoshenko beam), as B32 itself is",
+        meaning: HYBRID_BEAM,
     },
     ElementAlias {
         name: "B32R",
