@@ -1,7 +1,8 @@
 //! The strains, stiffness, mass and stresses of the shells (see the module
 //! docs of [`super`]): a degenerated continuum over the reference surface,
-//! its transverse shear strains tied at the edges (MITC4, MITC3) or taken
-//! at the reduced rule's points (S6), or every strain tied as in MITC9 on a
+//! its transverse shear strains tied at the edges (MITC4), at interior
+//! points (MITC3+, whose rotations carry a cubic bubble) or taken at the
+//! reduced rule's points (S6), or every strain tied as in MITC9 on a
 //! nine-node surface (S8).
 
 use super::surface::{self, G2, G3, MAX_NODES, THICKNESS_RULE};
@@ -45,8 +46,13 @@ pub(super) struct Geometry {
 /// covariant base vectors `g_r, g_s, g_t`, the distance `h` of the level
 /// from the nodes along the directors, `det J` and the local frame.
 pub(super) struct Point {
+    /// The shape functions of the surface and of the nodes' displacements.
     pub n: [f64; MAX_NODES],
     pub dn: [[f64; 2]; MAX_NODES],
+    /// The shape functions of the nodes' rotations: `n`, and for S3 its
+    /// bubble at the fourth node.
+    pub f: [f64; MAX_NODES],
+    pub df: [[f64; 2]; MAX_NODES],
     pub g: [[f64; 3]; 3],
     pub h: f64,
     pub det_j: f64,
@@ -89,14 +95,40 @@ impl Geometry {
             normal.map(|v| v / det_j),
         ];
         let a = contra.map(|ga| frame.map(|e| dot(ga, e)));
+        let (mut f, mut df) = (n, dn);
+        if self.kind == ShellKind::S3 {
+            (f[3], df[3]) = surface::rotation_bubble(rs);
+        }
         Point {
             n,
             dn,
+            f,
+            df,
             g,
             h,
             det_j,
             frame,
             a,
+        }
+    }
+
+    /// The directions, among the DOFs of the interpolation nodes beyond the
+    /// element's own, that the element condenses: each of S8's centre
+    /// node's six DOFs; S3's bubble rotations about the two in-plane axes
+    /// of its frame (the bubble moves no point of the surface and turns no
+    /// director about itself). Empty for the other kinds.
+    pub fn internal_directions(&self) -> Vec<[f64; 6]> {
+        let unit_dof = |k: usize| std::array::from_fn(|i| (i == k) as u8 as f64);
+        match self.kind {
+            ShellKind::S8 => (0..6).map(unit_dof).collect(),
+            ShellKind::S3 => {
+                let frame = self.point([1.0 / 3.0, 1.0 / 3.0], 0.0).frame;
+                frame[..2]
+                    .iter()
+                    .map(|e| [0.0, 0.0, 0.0, e[0], e[1], e[2]])
+                    .collect()
+            }
+            ShellKind::S4 | ShellKind::S6 => Vec::new(),
         }
     }
 
@@ -117,9 +149,9 @@ impl Geometry {
     /// dU/dt` at `p`: `[c, d]` per derivative.
     fn factors(&self, p: &Point, a: usize) -> [[f64; 2]; 3] {
         [
-            [p.dn[a][0], p.dn[a][0] * p.h],
-            [p.dn[a][1], p.dn[a][1] * p.h],
-            [0.0, 0.5 * self.thickness * p.n[a]],
+            [p.dn[a][0], p.df[a][0] * p.h],
+            [p.dn[a][1], p.df[a][1] * p.h],
+            [0.0, 0.5 * self.thickness * p.f[a]],
         ]
     }
 
@@ -141,54 +173,147 @@ impl Geometry {
         row
     }
 
-    /// The transverse shear strains `e_rt`, `e_st` of the element at
-    /// `(rs, t)`, interpolated from their values at the tying points on
-    /// the edges (MITC4: Dvorkin and Bathe; MITC3: Lee and Bathe).
-    fn tied_shear(&self, [r, s]: [f64; 2], t: f64) -> [Row; 2] {
-        let at = |rs: [f64; 2], alpha: usize| {
-            let p = self.point(rs, t);
-            self.covariant(&p, alpha, 2)
-        };
+    /// The points whose covariant strains the tied strains interpolate, as
+    /// `(rs, alpha, beta)` for the strain `e_alpha,beta` there, in the order
+    /// [`Self::tied_shear`] and [`Self::membrane`] read them from a
+    /// [`Level`]. S4: `e_rt` at the edge midpoints `s = 1, -1`, `e_st` at
+    /// `r = 1, -1` (MITC4: Dvorkin and Bathe). S3: `e_rt` and `e_st` at
+    /// the points A, B, C on the lines from the centroid to the corners,
+    /// `e_rt` at D, `e_st` at E and both at F, a distance `d = 1e-4` from
+    /// the centroid (MITC3+: Lee, Lee and Bathe, 2014; the authors chose
+    /// `d` for the least in-plane twisting stiffness). S8: MITC9's (see
+    /// [`mitc9`]), `e_rt`, `e_st`, `e_rr`, `e_ss` at six points each and
+    /// `e_rs` at the 2 x 2 Gauss points. S6: none.
+    fn tying_points(&self) -> Vec<([f64; 2], usize, usize)> {
+        const THIRD: f64 = 1.0 / 3.0;
+        const D: f64 = 1e-4;
         match self.kind {
-            ShellKind::S4 => {
-                let (a, c) = (at([0.0, 1.0], 0), at([0.0, -1.0], 0));
-                let (d, b) = (at([1.0, 0.0], 1), at([-1.0, 0.0], 1));
-                let rt = combine(&[(0.5 * (1.0 + s), &a), (0.5 * (1.0 - s), &c)]);
-                let st = combine(&[(0.5 * (1.0 + r), &d), (0.5 * (1.0 - r), &b)]);
-                [rt, st]
-            }
-            // The quadratic triangle takes its shear where it integrates
-            // it, at the reduced rule's points.
-            ShellKind::S6 => [at([r, s], 0), at([r, s], 1)],
-            ShellKind::S8 => {
-                let rt = mitc9(r, s, |rs| at(rs, 0));
-                let st = mitc9(s, r, |[a, b]| at([b, a], 1));
-                [rt, st]
-            }
+            ShellKind::S4 => vec![
+                ([0.0, 1.0], 0, 2),
+                ([0.0, -1.0], 0, 2),
+                ([1.0, 0.0], 1, 2),
+                ([-1.0, 0.0], 1, 2),
+            ],
             ShellKind::S3 => {
-                let rt1 = at([0.5, 0.0], 0);
-                let st2 = at([0.0, 0.5], 1);
-                let (rt3, st3) = (at([0.5, 0.5], 0), at([0.5, 0.5], 1));
-                // c = (e_st^2 - e_rt^1) - (e_st^3 - e_rt^3).
-                let c = combine(&[(1.0, &st2), (-1.0, &rt1), (-1.0, &st3), (1.0, &rt3)]);
+                let (a, b, c) = (
+                    [1.0 / 6.0, 2.0 / 3.0],
+                    [2.0 / 3.0, 1.0 / 6.0],
+                    [1.0 / 6.0; 2],
+                );
+                let (d, e, f) = (
+                    [THIRD + D, THIRD - 2.0 * D],
+                    [THIRD - 2.0 * D, THIRD + D],
+                    [THIRD + D; 2],
+                );
+                vec![
+                    (a, 0, 2),
+                    (a, 1, 2),
+                    (b, 0, 2),
+                    (b, 1, 2),
+                    (c, 0, 2),
+                    (c, 1, 2),
+                    (d, 0, 2),
+                    (e, 1, 2),
+                    (f, 0, 2),
+                    (f, 1, 2),
+                ]
+            }
+            ShellKind::S6 => Vec::new(),
+            ShellKind::S8 => {
+                let mut points = Vec::with_capacity(28);
+                for (turned, alpha, beta) in
+                    [(false, 0, 2), (true, 1, 2), (false, 0, 0), (true, 1, 1)]
+                {
+                    for ri in [-G2, G2] {
+                        for sj in [-G3, 0.0, G3] {
+                            let rs = if turned { [sj, ri] } else { [ri, sj] };
+                            points.push((rs, alpha, beta));
+                        }
+                    }
+                }
+                for ri in [-G2, G2] {
+                    for sj in [-G2, G2] {
+                        points.push(([ri, sj], 0, 1));
+                    }
+                }
+                points
+            }
+        }
+    }
+
+    /// What the strains at level `t` share over the element: the covariant
+    /// strains at its tying points ([`Self::tying_points`]) and S8's
+    /// membrane correction ([`Self::membrane_correction`]).
+    pub fn level(&self, t: f64) -> Level {
+        let tied = self
+            .tying_points()
+            .iter()
+            .map(|(rs, alpha, beta)| self.covariant(&self.point(*rs, t), *alpha, *beta))
+            .collect();
+        let mut level = Level {
+            t,
+            tied,
+            correction: None,
+        };
+        level.correction = self.membrane_correction(&level);
+        level
+    }
+
+    /// The transverse shear strains `e_rt`, `e_st` of the element at `rs`
+    /// on `level`, interpolated from their values at the tying points (S6:
+    /// taken where they are, at the points of its reduced rule).
+    fn tied_shear(&self, level: &Level, [r, s]: [f64; 2]) -> [Row; 2] {
+        let tied = &level.tied;
+        match self.kind {
+            ShellKind::S4 => [
+                combine(&[(0.5 * (1.0 + s), &tied[0]), (0.5 * (1.0 - s), &tied[1])]),
+                combine(&[(0.5 * (1.0 + r), &tied[2]), (0.5 * (1.0 - r), &tied[3])]),
+            ],
+            ShellKind::S6 => {
+                let p = self.point([r, s], level.t);
+                [self.covariant(&p, 0, 2), self.covariant(&p, 1, 2)]
+            }
+            ShellKind::S8 => [mitc9(r, s, &tied[0..6]), mitc9(s, r, &tied[6..12])],
+            ShellKind::S3 => {
+                // e_rt = 2/3 (e_rt^B - e_st^B / 2) + 1/3 (e_rt^C + e_st^C)
+                // + c (3 s - 1) / 3, e_st = 2/3 (e_st^A - e_rt^A / 2) + 1/3
+                // (e_rt^C + e_st^C) + c (1 - 3 r) / 3, with c = e_rt^F -
+                // e_rt^D - e_st^F + e_st^E.
+                const THIRD: f64 = 1.0 / 3.0;
+                let [rt_a, st_a, rt_b, st_b, rt_c, st_c, rt_d, st_e, rt_f, st_f] =
+                    [0, 1, 2, 3, 4, 5, 6, 7, 8, 9].map(|i| &tied[i]);
+                let c = combine(&[(1.0, rt_f), (-1.0, rt_d), (-1.0, st_f), (1.0, st_e)]);
+                let (cr, cs) = (THIRD * (3.0 * s - 1.0), THIRD * (1.0 - 3.0 * r));
                 [
-                    combine(&[(1.0, &rt1), (s, &c)]),
-                    combine(&[(1.0, &st2), (-r, &c)]),
+                    combine(&[
+                        (2.0 / 3.0, rt_b),
+                        (-THIRD, st_b),
+                        (THIRD, rt_c),
+                        (THIRD, st_c),
+                        (cr, &c),
+                    ]),
+                    combine(&[
+                        (2.0 / 3.0, st_a),
+                        (-THIRD, rt_a),
+                        (THIRD, rt_c),
+                        (THIRD, st_c),
+                        (cs, &c),
+                    ]),
                 ]
             }
         }
     }
 
     /// The in-plane covariant strains `e_rr`, `e_ss`, `e_rs` at `p` (the
-    /// point `(rs, t)`): where they are, except for S8, whose strains are
-    /// interpolated from tying points as in MITC9 (Bucalem and Bathe,
+    /// point `rs` on `level`): where they are, except for S8, whose strains
+    /// are interpolated from tying points as in MITC9 (Bucalem and Bathe,
     /// 1993): `e_rr` from `r = +-1/sqrt(3)` times `s = 0, +-sqrt(3/5)`,
-    /// `e_ss` the same turned, `e_rs` from the 2 x 2 Gauss points. Each
-    /// tied component holds the strain a constant physical strain gives on
-    /// a straight-edged element, and the tying frees curved elements of
-    /// membrane locking; the patch tests need the correction of
-    /// [`Self::membrane_correction`] besides.
-    fn membrane(&self, p: &Point, [r, s]: [f64; 2], t: f64) -> [Row; 3] {
+    /// `e_ss` the same turned, `e_rs` bilinear from the 2 x 2 Gauss points.
+    /// Each tied component holds the strain a constant physical strain
+    /// gives on a straight-edged element, and the tying frees curved
+    /// elements of membrane locking; the patch tests need the correction
+    /// of [`Self::membrane_correction`] besides.
+    fn membrane(&self, p: &Point, level: &Level, [r, s]: [f64; 2]) -> [Row; 3] {
         if self.kind != ShellKind::S8 {
             return [
                 self.covariant(p, 0, 0),
@@ -196,41 +321,28 @@ impl Geometry {
                 self.covariant(p, 0, 1),
             ];
         }
-        let at = |rs: [f64; 2], alpha: usize, beta: usize| {
-            let q = self.point(rs, t);
-            self.covariant(&q, alpha, beta)
-        };
-        let rr = mitc9(r, s, |rs| at(rs, 0, 0));
-        let ss = mitc9(s, r, |[a, b]| at([b, a], 1, 1));
+        let tied = &level.tied;
         let lin = |x: f64| [0.5 * (1.0 - x / G2), 0.5 * (1.0 + x / G2)];
         let (lr, ls) = (lin(r), lin(s));
-        let mut terms = Vec::with_capacity(4);
-        let mut rows = Vec::with_capacity(4);
-        for (i, ri) in [-G2, G2].into_iter().enumerate() {
-            for (j, sj) in [-G2, G2].into_iter().enumerate() {
-                terms.push(lr[i] * ls[j]);
-                rows.push(at([ri, sj], 0, 1));
-            }
-        }
-        let pairs: Vec<(f64, &Row)> = terms.into_iter().zip(&rows).collect();
-        [rr, ss, combine(&pairs)]
+        let bilinear = [lr[0] * ls[0], lr[0] * ls[1], lr[1] * ls[0], lr[1] * ls[1]];
+        let pairs: Vec<(f64, &Row)> = bilinear.into_iter().zip(&tied[24..28]).collect();
+        [
+            mitc9(r, s, &tied[12..18]),
+            mitc9(s, r, &tied[18..24]),
+            combine(&pairs),
+        ]
     }
 
-    /// The strains on the local frame at `(rs, t)`, as rows:
+    /// The strains on the local frame at `rs` on `level`, as rows:
     /// `[e11, e22, g12, g13, g23]` (engineering shears), the transverse
     /// shears from the tied covariant strains; S8's membrane strains with
-    /// its `correction` at level `t` ([`Self::membrane_correction`]).
-    pub fn local_strains(
-        &self,
-        rs: [f64; 2],
-        t: f64,
-        correction: Option<&Correction>,
-    ) -> (Point, [Row; 5]) {
-        let p = self.point(rs, t);
-        let [rt, st] = self.tied_shear(rs, t);
-        let [rr, ss, rs_] = self.membrane(&p, rs, t);
+    /// the level's correction ([`Self::membrane_correction`]).
+    pub fn local_strains(&self, rs: [f64; 2], level: &Level) -> (Point, [Row; 5]) {
+        let p = self.point(rs, level.t);
+        let [rt, st] = self.tied_shear(level, rs);
+        let [rr, ss, rs_] = self.membrane(&p, level, rs);
         let mut rows = to_local(&p, &[rr, ss, rs_, rt, st]);
-        if let Some(c) = correction {
+        if let Some(c) = &level.correction {
             let turned = turn(&c.rows, &c.frame, &p.frame);
             for (row, add) in rows.iter_mut().zip(&turned) {
                 for (r, a) in row.iter_mut().zip(add) {
@@ -251,16 +363,17 @@ impl Geometry {
     /// (MITC9's tying alone does not); a displacement the tying holds
     /// exactly (every linear field on a straight-edged element) has no
     /// correction, and the tying's freedom from membrane locking stays.
-    pub fn membrane_correction(&self, t: f64) -> Option<Correction> {
+    fn membrane_correction(&self, level: &Level) -> Option<Correction> {
         if self.kind != ShellKind::S8 {
             return None;
         }
+        let t = level.t;
         let frame = self.point([0.0, 0.0], t).frame;
         let mut sum = [ZERO_ROW; 3];
         let mut area = 0.0;
         for (rs, w) in surface::rule(self.kind) {
             let p = self.point(*rs, t);
-            let tied = self.membrane(&p, *rs, t);
+            let tied = self.membrane(&p, level, *rs);
             let difference: [Row; 3] = std::array::from_fn(|c| {
                 let compatible = match c {
                     0 => self.covariant(&p, 0, 0),
@@ -317,7 +430,7 @@ impl Geometry {
                 }
             }
             for k in 0..3 {
-                row[6 * i + 3 + k] += p.n[i] * e3[k];
+                row[6 * i + 3 + k] += p.f[i] * e3[k];
             }
         }
         (p, row)
@@ -330,11 +443,10 @@ impl Geometry {
         let nd = 6 * self.nodes();
         let d = Elasticity::new(youngs_modulus, poisson_ratio);
         let mut k = vec![0.0; nd * nd];
-        let corrections = THICKNESS_RULE.map(|(t, _)| self.membrane_correction(t));
+        let levels = THICKNESS_RULE.map(|(t, _)| self.level(t));
         for (rs, w) in surface::rule(self.kind) {
-            for ((t, wt), correction) in THICKNESS_RULE.iter().zip(&corrections) {
-                let (t, wt) = (*t, *wt);
-                let (p, rows) = self.local_strains(*rs, t, correction.as_ref());
+            for ((_, wt), level) in THICKNESS_RULE.iter().zip(&levels) {
+                let (p, rows) = self.local_strains(*rs, level);
                 let wd = w * wt * p.det_j;
                 let stressed = d.apply(&rows, nd);
                 add_products(&mut k, nd, &rows, &stressed, wd);
@@ -371,14 +483,14 @@ impl Geometry {
                 let mut rotation = Mat::<f64>::zeros(3, nd);
                 let mut position = self.position(*rs);
                 for i in 0..self.nodes() {
-                    let (ni, v) = (p.n[i], self.director[i]);
+                    let (ni, fi, v) = (p.n[i], p.f[i], self.director[i]);
                     for c in 0..3 {
                         position[c] += ni * p.h * v[c];
                         translation[(c, 6 * i + c)] = ni;
-                        rotation[(c, 6 * i + 3 + c)] = ni;
+                        rotation[(c, 6 * i + 3 + c)] = fi;
                     }
                     // theta x (h V) = -(h V)~ theta.
-                    let hv = v.map(|x| p.h * ni * x);
+                    let hv = v.map(|x| p.h * fi * x);
                     let skew = [
                         [0.0, -hv[2], hv[1]],
                         [hv[2], 0.0, -hv[0]],
@@ -427,9 +539,9 @@ impl Geometry {
         let at: Vec<Vec<(Point, [Row; 5])>> = layers
             .iter()
             .map(|&t| {
-                let correction = self.membrane_correction(t);
+                let level = self.level(t);
                 rule.iter()
-                    .map(|(rs, _)| self.local_strains(*rs, t, correction.as_ref()))
+                    .map(|(rs, _)| self.local_strains(*rs, &level))
                     .collect()
             })
             .collect();
@@ -477,6 +589,16 @@ impl Geometry {
         }
         out
     }
+}
+
+/// The covariant strains one level `t` of the thickness shares over the
+/// element ([`Geometry::level`]).
+pub(super) struct Level {
+    t: f64,
+    /// The strain rows at the tying points, in the order of
+    /// [`Geometry::tying_points`].
+    tied: Vec<Row>,
+    correction: Option<Correction>,
 }
 
 /// S8's membrane correction at one level: rows of `[e_xx, e_yy, g_xy]` on
@@ -542,11 +664,12 @@ fn turn(rows: &[Row; 3], from: &[[f64; 3]; 3], to: &[[f64; 3]; 3]) -> [Row; 3] {
 }
 
 /// MITC9's interpolation of a covariant strain tied along `r` (`e_rr`,
-/// `e_rt`): its values `at` the points `r = +-1/sqrt(3)`, `s = 0,
-/// +-sqrt(3/5)`, linear in `r` and quadratic in `s` between them. With the
-/// arguments turned (`s`, `r`, and `at` taking `[s, r]`), the same for the
-/// components tied along `s`.
-fn mitc9(r: f64, s: f64, at: impl Fn([f64; 2]) -> Row) -> Row {
+/// `e_rt`): from its values `rows` at the points `r = +-1/sqrt(3)` times
+/// `s = -sqrt(3/5), 0, sqrt(3/5)` (in that order, `r` outer), linear in
+/// `r` and quadratic in `s` between them. With the arguments turned (`s`,
+/// `r`, and the rows at the turned points), the same for the components
+/// tied along `s`.
+fn mitc9(r: f64, s: f64, rows: &[Row]) -> Row {
     let lin = [0.5 * (1.0 - r / G2), 0.5 * (1.0 + r / G2)];
     let b2 = G3 * G3;
     let quad = [
@@ -554,15 +677,8 @@ fn mitc9(r: f64, s: f64, at: impl Fn([f64; 2]) -> Row) -> Row {
         1.0 - s * s / b2,
         s * (s + G3) / (2.0 * b2),
     ];
-    let mut rows = Vec::with_capacity(6);
-    let mut weights = Vec::with_capacity(6);
-    for (i, ri) in [-G2, G2].into_iter().enumerate() {
-        for (j, sj) in [-G3, 0.0, G3].into_iter().enumerate() {
-            rows.push(at([ri, sj]));
-            weights.push(lin[i] * quad[j]);
-        }
-    }
-    let pairs: Vec<(f64, &Row)> = weights.into_iter().zip(&rows).collect();
+    let weights = lin.iter().flat_map(|l| quad.iter().map(move |q| l * q));
+    let pairs: Vec<(f64, &Row)> = weights.zip(rows).collect();
     combine(&pairs)
 }
 

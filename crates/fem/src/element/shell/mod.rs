@@ -1,8 +1,9 @@
 //! Shell elements with six DOFs per node (`ux uy uz rx ry rz`): the MITC
-//! shells of Dvorkin and Bathe (S4, four nodes) and of Lee and Bathe (S3,
-//! three nodes), the quadratic (curved) triangle S6 and the quadratic
-//! quadrilateral S8 (MITC9 of Bucalem and Bathe on a nine-node surface,
-//! its centre node condensed), in the node numbering of Abaqus/CalculiX.
+//! shells of Dvorkin and Bathe (S4, four nodes) and of Lee, Lee and Bathe
+//! (S3, three nodes: MITC3+), the quadratic (curved) triangle S6 and the
+//! quadratic quadrilateral S8 (MITC9 of Bucalem and Bathe on a nine-node
+//! surface, its centre node condensed), in the node numbering of
+//! Abaqus/CalculiX.
 //!
 //! **Kinematics.** A degenerated continuum over the reference surface
 //! through the nodes: the point at natural coordinates `(r, s)` and
@@ -13,27 +14,30 @@
 //! `U = sum_a N_a (u_a + h(t) theta_a x V_a)`.
 //! The director `V_a` is the element's unit normal at node `a`, so warped
 //! elements need no correction: a rigid motion (`u_a = c + w x x_a`,
-//! `theta_a = w`) moves every point rigidly and strains nothing.
+//! `theta_a = w`) moves every point rigidly and strains nothing. S3's
+//! rotations carry besides a cubic bubble `27 r s (1 - r - s)` times an
+//! internal rotation `theta_b` about in-plane axes (MITC3+), which enriches
+//! its bending and is zero under a rigid motion.
 //!
 //! **Strains.** The covariant strains `e_ij = (g_i . U,j + g_j . U,i) / 2`
 //! on the base vectors `g_i = dX/di`; the transverse shear strains `e_rt`,
 //! `e_st` are not taken where they are evaluated but interpolated from
-//! their values at tying points on the edges, which removes shear locking
+//! their values at tying points, which removes shear locking
 //! (MITC4: `e_rt` from the edge midpoints `s = +-1`, `e_st` from `r = +-1`;
-//! MITC3: the three edge midpoints with the rotated component of Lee and
-//! Bathe, 2004); S6 takes all its strains at the three interior points of
-//! its (reduced) rule; S8 ties all five components as MITC9 and corrects
-//! the membrane ones by their mean difference from the compatible ones,
-//! so that it passes the patch tests on distorted meshes
+//! MITC3+: a constant part from three points on the lines from the centroid
+//! to the corners and a linear part from three points next to the centroid,
+//! Lee, Lee and Bathe, 2014); S6 takes all its strains at the three
+//! interior points of its (reduced) rule; S8 ties all five components as
+//! MITC9 and corrects the membrane ones by their mean difference from the
+//! compatible ones, so that it passes the patch tests on distorted meshes
 //! (`membrane_correction` in `mitc.rs`). They are turned onto a local
 //! Cartesian frame (`e1` along `g_r`, `e3` normal to the surface) and meet
-//! a plane-stress material
-//! (`sigma_33 = 0`) with transverse shear stiffness `k G`, `k = 5/6`.
-//! Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in the plane (S4),
-//! three (S3, S6) or 3 x 3 (S8), two through the thickness (exact for a
-//! flat shell). S8's centre node is condensed statically in the element:
-//! `K = K_bb - K_bc K_cc^-1 K_cb`, its mass and stresses through the same
-//! map `u_c = -K_cc^-1 K_cb u_b`.
+//! a plane-stress material (`sigma_33 = 0`) with transverse shear stiffness
+//! `k G`, `k = 5/6`. Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in
+//! the plane (S4), six (S3), three (S6) or 3 x 3 (S8), two through the
+//! thickness (exact for a flat shell). S8's centre node and S3's bubble are
+//! condensed statically in the element: `K = K_bb - K_bc K_cc^-1 K_cb`,
+//! their mass and stresses through the same map `u_c = -K_cc^-1 K_cb u_b`.
 //!
 //! **Drilling.** The rotation about the normal has no stiffness in the
 //! continuum; a penalty `gamma (theta_n - w)^2 / 2` per area ties it to the
@@ -43,8 +47,8 @@
 //! drilling rotation, so that an element has no zero-energy mode besides
 //! the six rigid-body modes.
 //!
-//! **Mass.** Consistent, with rotary inertia (2 x 2 points for S4, 3 for
-//! S3, 6 for S6, 3 x 3 for S8): at each point a
+//! **Mass.** Consistent, with rotary inertia (2 x 2 points for S4, 6 for
+//! S3 and S6, 3 x 3 for S8): at each point a
 //! rigid slice through the thickness of mass `rho a dA` at the mid-surface
 //! and rotary inertia `rho a^3 / 12 dA` about the in-plane axes, moving
 //! with the interpolated displacement and rotation of that point (its
@@ -86,7 +90,7 @@ pub const WARP_LIMIT_DEGREES: f64 = 30.0;
 /// Shell element types (Abaqus/CalculiX names).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum ShellKind {
-    /// 3-node triangle, MITC3.
+    /// 3-node triangle, MITC3+ (its rotations' bubble condensed).
     S3,
     /// 4-node quadrilateral, MITC4.
     S4,
@@ -111,11 +115,13 @@ impl ShellKind {
         }
     }
 
-    /// Number of nodes the surface is interpolated on: the element's, and
-    /// for S8 an internal centre node, whose DOFs the element condenses.
+    /// Number of nodes the element is interpolated on: its own, and for S8
+    /// an internal centre node, for S3 the bubble of its rotations, whose
+    /// DOFs the element condenses.
     pub const fn interpolation_nodes(self) -> usize {
         match self {
             ShellKind::S8 => 9,
+            ShellKind::S3 => 4,
             kind => kind.node_count(),
         }
     }
@@ -348,10 +354,13 @@ impl Shell {
         }
     }
 
-    /// The stiffness over the element's DOFs and, for S8, the map `T` from
-    /// them to the interpolation DOFs (its centre node's six follow by
-    /// static condensation, `u_c = -K_cc^-1 K_cb u_b`, so that `T = [I;
-    /// -K_cc^-1 K_cb]` and `K = T^T K_full T = K_bb - K_bc K_cc^-1 K_cb`).
+    /// The stiffness over the element's DOFs and, for S8 and S3, the map
+    /// `T` from them to the interpolation DOFs. The internal DOFs `u_c`
+    /// (S8's centre node's six; S3's bubble, two rotations about in-plane
+    /// axes, `E` their directions among the bubble node's six) follow by
+    /// static condensation, `u_c = -K_cc^-1 K_cb u_b` with `K_cc = E^T K_ii
+    /// E`, `K_cb = E^T K_ib`, so that `T = [I; -E K_cc^-1 K_cb]` and `K =
+    /// T^T K_full T = K_bb - K_bc K_cc^-1 K_cb`.
     fn condensed_stiffness(
         &self,
         geometry: &Geometry,
@@ -362,21 +371,32 @@ impl Shell {
         if full.nrows() == nb {
             return Ok((full, None));
         }
-        let (k, x) = condense(&full, nb)
-            .ok_or_else(|| self.invalid("its centre node has a singular stiffness".into()))?;
-        let t = faer::Mat::from_fn(full.nrows(), nb, |r, c| {
+        let directions = geometry.internal_directions();
+        let e = faer::Mat::from_fn(full.nrows(), nb + directions.len(), |r, c| match (r, c) {
+            (r, c) if r < nb || c < nb => (r == c) as u8 as f64,
+            (r, c) => directions[c - nb][r - nb],
+        });
+        let reduced = e.transpose() * &full * &e;
+        let (k, x) = condense(&reduced, nb).ok_or_else(|| {
+            let what = match self.kind {
+                ShellKind::S3 => "its rotation bubble",
+                _ => "its centre node",
+            };
+            self.invalid(format!("{what} has a singular stiffness"))
+        })?;
+        let t = faer::Mat::from_fn(reduced.nrows(), nb, |r, c| {
             if r < nb {
                 (r == c) as u8 as f64
             } else {
                 x[(r - nb, c)]
             }
         });
-        Ok((k, Some(t)))
+        Ok((k, Some(&e * t)))
     }
 
-    /// S8's map `T` from the element's DOFs to the interpolation DOFs
-    /// ([`Self::condensed_stiffness`]); `None` for the other kinds, whose
-    /// nodes are their interpolation nodes.
+    /// S8's and S3's map `T` from the element's DOFs to the interpolation
+    /// DOFs ([`Self::condensed_stiffness`]); `None` for the other kinds,
+    /// whose nodes are their interpolation nodes.
     fn condensation(&self, geometry: &Geometry) -> Result<Option<faer::Mat<f64>>, FemError> {
         if self.kind.interpolation_nodes() == self.kind.node_count() {
             return Ok(None);
@@ -439,6 +459,10 @@ impl Shell {
             ShellKind::S4 | ShellKind::S8 => cross(sub(rel[2], rel[0]), sub(rel[3], rel[1])),
             ShellKind::S3 | ShellKind::S6 => cross(rel[1], rel[2]),
         };
+        if kind == ShellKind::S3 {
+            // The bubble at the centroid (it moves no point of the surface).
+            rel[3] = std::array::from_fn(|i| (rel[1][i] + rel[2][i]) / 3.0);
+        }
         if kind == ShellKind::S8 {
             // The centre on the serendipity surface through the eight
             // nodes: the nine-node surface is then the eight-node one.

@@ -6,7 +6,7 @@
 use super::ShellKind;
 
 /// Largest number of interpolation nodes of a shell element (S8: its eight
-/// and an internal centre node).
+/// and an internal centre node; S3: its three and the rotation bubble).
 pub(super) const MAX_NODES: usize = 9;
 
 /// Largest number of points of a stress rule ([`stress_rule`]).
@@ -25,7 +25,9 @@ pub(super) const G3: f64 = 0.774_596_669_241_483_4;
 /// those corners and then the mid-side nodes `(1/2, 0), (1/2, 1/2), (0,
 /// 1/2)`; S8: the nine-node Lagrangian quadrilateral, its corners as S4's,
 /// then the mid-side nodes `(0, -1), (1, 0), (0, 1), (-1, 0)` and the
-/// internal centre `(0, 0)`.
+/// internal centre `(0, 0)`. S3's bubble (its fourth interpolation node)
+/// moves no point of the surface: its `n` and `dn` are zero (its rotations
+/// enter through [`rotation_bubble`]).
 pub(super) fn evaluate(
     kind: ShellKind,
     [r, s]: [f64; 2],
@@ -91,6 +93,18 @@ const QUAD9_NODES: [[f64; 2]; 9] = [
 ];
 
 const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+/// S3's corners and its rotation bubble, at the centroid.
+const TRIANGLE_NODES_AND_BUBBLE: [[f64; 2]; 4] =
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0 / 3.0, 1.0 / 3.0]];
+
+/// The cubic bubble `27 r s (1 - r - s)` of S3's rotations (MITC3+: Lee,
+/// Lee and Bathe, 2014) and its derivatives `[d/dr, d/ds]` at `(r, s)`:
+/// zero on the edges, one at the centroid.
+pub(super) fn rotation_bubble([r, s]: [f64; 2]) -> (f64, [f64; 2]) {
+    let l = 1.0 - r - s;
+    (27.0 * r * s * l, [27.0 * s * (l - r), 27.0 * r * (l - s)])
+}
+
 const TRIANGLE_NODES: [[f64; 2]; 6] = [
     [0.0, 0.0],
     [1.0, 0.0],
@@ -100,12 +114,13 @@ const TRIANGLE_NODES: [[f64; 2]; 6] = [
     [0.0, 0.5],
 ];
 
-/// The interpolation nodes' natural coordinates (S8: with its centre).
+/// The interpolation nodes' natural coordinates (S8: with its centre; S3:
+/// with its bubble).
 pub(super) fn node_coordinates(kind: ShellKind) -> &'static [[f64; 2]] {
     match kind {
         ShellKind::S4 => &QUAD_NODES,
         ShellKind::S8 => &QUAD9_NODES,
-        ShellKind::S3 => &TRIANGLE_NODES[..3],
+        ShellKind::S3 => &TRIANGLE_NODES_AND_BUBBLE,
         ShellKind::S6 => &TRIANGLE_NODES,
     }
 }
@@ -153,37 +168,41 @@ const TRIANGLE_6: [([f64; 2], f64); 6] = {
 };
 
 /// The in-plane rule of the stiffness: 2 x 2 Gauss points for S4, 3 x 3
-/// for S8, the three-point interior rule for S3 and S6 (reduced for S6);
-/// weights sum to the area of the natural element (4 and 1/2).
+/// for S8, the six-point rule for S3 (its bubble's bending strains are
+/// quadratic), the three-point interior rule for S6 (reduced); weights
+/// sum to the area of the natural element (4 and 1/2).
 pub(super) fn rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
         ShellKind::S4 => &GAUSS_2X2,
         ShellKind::S8 => &GAUSS_3X3,
-        ShellKind::S3 | ShellKind::S6 => &TRIANGLE_3,
+        ShellKind::S3 => &TRIANGLE_6,
+        ShellKind::S6 => &TRIANGLE_3,
     }
 }
 
 /// The in-plane points the stresses are evaluated at and extrapolated
-/// from: the stiffness rule's, except S8's 2 x 2 Gauss points (in the
-/// order of the corners they are nearest).
+/// from: S4's and S6's stiffness rule, S8's 2 x 2 Gauss points (in the
+/// order of the corners they are nearest), S3's three interior points.
 pub(super) fn stress_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
         ShellKind::S8 => &GAUSS_2X2,
+        ShellKind::S3 => &TRIANGLE_3,
         _ => rule(kind),
     }
 }
 
 /// The in-plane rule of the mass and of the drilling penalty: exact for
 /// products of two shape functions on an undistorted element (S4: 2 x 2,
-/// S3: 3 points, S6: 6 points), and with at least as many points as nodes,
-/// so that the penalty holds every node's rotation about the normal (S8:
-/// 3 x 3).
+/// S6: 6 points; S3: 6 points, exact for the products of its corners'
+/// functions with each other and with its bubble, not for the bubble's
+/// square, of degree six), and with at least
+/// as many points as nodes, so that the penalty holds every node's
+/// rotation about the normal (S8: 3 x 3).
 pub(super) fn full_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     match kind {
         ShellKind::S4 => &GAUSS_2X2,
         ShellKind::S8 => &GAUSS_3X3,
-        ShellKind::S3 => &TRIANGLE_3,
-        ShellKind::S6 => &TRIANGLE_6,
+        ShellKind::S3 | ShellKind::S6 => &TRIANGLE_6,
     }
 }
 
@@ -261,7 +280,13 @@ mod tests {
     fn shape_functions_are_a_partition_of_unity_and_interpolate_the_nodes() {
         for kind in ShellKind::ALL {
             let (mut n, mut dn) = ([0.0; MAX_NODES], [[0.0; 2]; MAX_NODES]);
-            for (a, xi) in node_coordinates(kind).iter().enumerate() {
+            // S3's bubble node carries rotations only: no shape function
+            // of the surface belongs to it.
+            let surface_nodes = match kind {
+                ShellKind::S3 => 3,
+                _ => kind.interpolation_nodes(),
+            };
+            for (a, xi) in node_coordinates(kind)[..surface_nodes].iter().enumerate() {
                 evaluate(kind, *xi, &mut n, &mut dn);
                 for (b, nb) in n.iter().enumerate().take(kind.interpolation_nodes()) {
                     let want = if a == b { 1.0 } else { 0.0 };
@@ -274,6 +299,25 @@ mod tests {
             for d in 0..2 {
                 assert!(dn[..nn].iter().map(|g| g[d]).sum::<f64>().abs() < 1e-15);
             }
+        }
+    }
+
+    #[test]
+    fn the_rotation_bubble_vanishes_on_the_edges_and_its_derivatives_hold() {
+        for rs in [[0.5, 0.0], [0.5, 0.5], [0.0, 0.5], [0.3, 0.0], [0.0, 0.0]] {
+            assert!(rotation_bubble(rs).0.abs() < 1e-15, "{rs:?}");
+        }
+        let (centre, slope) = rotation_bubble([1.0 / 3.0, 1.0 / 3.0]);
+        assert!((centre - 1.0).abs() < 1e-15 && slope.iter().all(|d| d.abs() < 1e-14));
+        let (x, h) = ([0.2, 0.3], 1e-6);
+        let (_, d) = rotation_bubble(x);
+        for k in 0..2 {
+            let mut plus = x;
+            let mut minus = x;
+            plus[k] += h;
+            minus[k] -= h;
+            let fd = (rotation_bubble(plus).0 - rotation_bubble(minus).0) / (2.0 * h);
+            assert!((fd - d[k]).abs() < 1e-8, "d/d{k}: {fd} against {}", d[k]);
         }
     }
 
