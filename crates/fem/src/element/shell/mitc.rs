@@ -1,9 +1,9 @@
 //! The strains, stiffness, mass and stresses of the shells (see the module
 //! docs of [`super`]): a degenerated continuum over the reference surface,
 //! its transverse shear strains tied at the edges (MITC4), at interior
-//! points (MITC3+, whose rotations carry a cubic bubble) or taken at the
-//! reduced rule's points (S6), or every strain tied as in MITC9 on a
-//! nine-node surface (S8).
+//! points (MITC3+, whose rotations carry a cubic bubble), at the edges and
+//! inside in Nedelec's space (S6, in the manner of MITC6), or every strain
+//! tied as in MITC9 on a nine-node surface (S8).
 
 use super::surface::{self, G2, G3, MAX_NODES, THICKNESS_RULE};
 use super::ShellKind;
@@ -181,9 +181,12 @@ impl Geometry {
     /// the points A, B, C on the lines from the centroid to the corners,
     /// `e_rt` at D, `e_st` at E and both at F, a distance `d = 1e-4` from
     /// the centroid (MITC3+: Lee, Lee and Bathe, 2014; the authors chose
-    /// `d` for the least in-plane twisting stiffness). S8: MITC9's (see
+    /// `d` for the least in-plane twisting stiffness). S6: `e_rt` at the
+    /// two Gauss points of the edge `s = 0`, `e_st` at those of `r = 0`,
+    /// both at those of the third edge, then both at the three points of
+    /// its reduced rule ([`nedelec_weights`]). S8: MITC9's (see
     /// [`mitc9`]), `e_rt`, `e_st`, `e_rr`, `e_ss` at six points each and
-    /// `e_rs` at the 2 x 2 Gauss points. S6: none.
+    /// `e_rs` at the 2 x 2 Gauss points.
     fn tying_points(&self) -> Vec<([f64; 2], usize, usize)> {
         const THIRD: f64 = 1.0 / 3.0;
         const D: f64 = 1e-4;
@@ -218,7 +221,23 @@ impl Geometry {
                     (f, 1, 2),
                 ]
             }
-            ShellKind::S6 => Vec::new(),
+            ShellKind::S6 => {
+                let (a, b) = (0.5 - 0.5 * G2, 0.5 + 0.5 * G2);
+                let mut points = vec![
+                    ([a, 0.0], 0, 2),
+                    ([b, 0.0], 0, 2),
+                    ([0.0, a], 1, 2),
+                    ([0.0, b], 1, 2),
+                    ([b, a], 0, 2),
+                    ([b, a], 1, 2),
+                    ([a, b], 0, 2),
+                    ([a, b], 1, 2),
+                ];
+                for (rs, _) in surface::rule(self.kind) {
+                    points.extend([(*rs, 0, 2), (*rs, 1, 2)]);
+                }
+                points
+            }
             ShellKind::S8 => {
                 let mut points = Vec::with_capacity(28);
                 for (turned, alpha, beta) in
@@ -260,8 +279,7 @@ impl Geometry {
     }
 
     /// The transverse shear strains `e_rt`, `e_st` of the element at `rs`
-    /// on `level`, interpolated from their values at the tying points (S6:
-    /// taken where they are, at the points of its reduced rule).
+    /// on `level`, interpolated from their values at the tying points.
     fn tied_shear(&self, level: &Level, [r, s]: [f64; 2]) -> [Row; 2] {
         let tied = &level.tied;
         match self.kind {
@@ -270,8 +288,33 @@ impl Geometry {
                 combine(&[(0.5 * (1.0 + r), &tied[2]), (0.5 * (1.0 - r), &tied[3])]),
             ],
             ShellKind::S6 => {
-                let p = self.point([r, s], level.t);
-                [self.covariant(&p, 0, 2), self.covariant(&p, 1, 2)]
+                // The tangential strains at the edges' Gauss points (e_qt =
+                // e_st - e_rt on the edge from node 2 to node 3) and both
+                // components' means over the element (exact for the
+                // quadratic strains of a flat element at its three points).
+                let qt = |i: usize| combine(&[(1.0, &tied[i + 1]), (-1.0, &tied[i])]);
+                let third = 1.0 / 3.0;
+                let mean = |c: usize| {
+                    combine(&[
+                        (third, &tied[8 + c]),
+                        (third, &tied[10 + c]),
+                        (third, &tied[12 + c]),
+                    ])
+                };
+                let values = [
+                    tied[0],
+                    tied[1],
+                    tied[2],
+                    tied[3],
+                    qt(4),
+                    qt(6),
+                    mean(0),
+                    mean(1),
+                ];
+                let [wr, ws] = nedelec_weights([r, s]);
+                let pairs =
+                    |w: &[f64; 8]| -> Vec<(f64, &Row)> { w.iter().copied().zip(&values).collect() };
+                [combine(&pairs(&wr)), combine(&pairs(&ws))]
             }
             ShellKind::S8 => [mitc9(r, s, &tied[0..6]), mitc9(s, r, &tied[6..12])],
             ShellKind::S3 => {
@@ -444,13 +487,28 @@ impl Geometry {
         let d = Elasticity::new(youngs_modulus, poisson_ratio);
         let mut k = vec![0.0; nd * nd];
         let levels = THICKNESS_RULE.map(|(t, _)| self.level(t));
-        for (rs, w) in surface::rule(self.kind) {
-            for ((_, wt), level) in THICKNESS_RULE.iter().zip(&levels) {
-                let (p, rows) = self.local_strains(*rs, level);
-                let wd = w * wt * p.det_j;
-                let stressed = d.apply(&rows, nd);
-                add_products(&mut k, nd, &rows, &stressed, wd);
+        // The strains `which` (of `[e11, e22, g12, g13, g23]`) by `rule`.
+        let mut integrate = |rule: &[([f64; 2], f64)], which: std::ops::Range<usize>| {
+            for (rs, w) in rule {
+                for ((_, wt), level) in THICKNESS_RULE.iter().zip(&levels) {
+                    let (p, mut rows) = self.local_strains(*rs, level);
+                    for (i, row) in rows.iter_mut().enumerate() {
+                        if !which.contains(&i) {
+                            *row = ZERO_ROW;
+                        }
+                    }
+                    let stressed = d.apply(&rows, nd);
+                    add_products(&mut k, nd, &rows, &stressed, w * wt * p.det_j);
+                }
             }
+        };
+        if self.kind == ShellKind::S6 {
+            // Membrane and bending by the reduced rule, the tied shear by
+            // the full one.
+            integrate(surface::rule(self.kind), 0..3);
+            integrate(surface::full_rule(self.kind), 3..5);
+        } else {
+            integrate(surface::rule(self.kind), 0..5);
         }
         for (rs, w) in surface::full_rule(self.kind) {
             let (p, row) = self.drilling(*rs);
@@ -680,6 +738,66 @@ fn mitc9(r: f64, s: f64, rows: &[Row]) -> Row {
     let weights = lin.iter().flat_map(|l| quad.iter().map(move |q| l * q));
     let pairs: Vec<(f64, &Row)> = weights.zip(rows).collect();
     combine(&pairs)
+}
+
+/// S6's assumed transverse shear field (in the manner of MITC6: Lee and
+/// Bathe, 2004): the covariant shears `(e_rt, e_st) = (a1 + b1 r + c1 s + s
+/// (d r + e s), a2 + b2 r + c2 s - r (d r + e s))`, Nedelec's space of the
+/// second order, fixed by its natural degrees of freedom: the tangential
+/// strain at the two Gauss points of each edge (its moments against the
+/// edge's linear functions) and the mean of each component over the
+/// element. The interpolation holds every field of the space exactly, the
+/// gradient of each quadratic deflection among them, so that a thin
+/// plate's bending without shear stays representable and it does not
+/// lock. Returns
+/// the weights of the eight values, in the order of [`Geometry::tied_shear`],
+/// in `e_rt` and `e_st` at `rs`.
+fn nedelec_weights([r, s]: [f64; 2]) -> [[f64; 8]; 2] {
+    use std::sync::OnceLock;
+    // The basis at a point: its (e_rt, e_st) components.
+    fn basis(r: f64, s: f64) -> [[f64; 2]; 8] {
+        [
+            [1.0, 0.0],
+            [r, 0.0],
+            [s, 0.0],
+            [0.0, 1.0],
+            [0.0, r],
+            [0.0, s],
+            [s * r, -r * r],
+            [s * s, -r * s],
+        ]
+    }
+    static INVERSE: OnceLock<[[f64; 8]; 8]> = OnceLock::new();
+    let inverse = INVERSE.get_or_init(|| {
+        let (a, b) = (0.5 - 0.5 * G2, 0.5 + 0.5 * G2);
+        // Basis field k's strain in the direction d = (rt, st) at (r, s),
+        // and its mean over the element.
+        let at = |[r, s]: [f64; 2], d: [f64; 2], k: usize| {
+            let phi = basis(r, s)[k];
+            d[0] * phi[0] + d[1] * phi[1]
+        };
+        let mean = |d: [f64; 2], k: usize| {
+            let rule = surface::rule(ShellKind::S6);
+            rule.iter().map(|(rs, _)| at(*rs, d, k)).sum::<f64>() / rule.len() as f64
+        };
+        let (rt, st, qt) = ([1.0, 0.0], [0.0, 1.0], [-1.0, 1.0]);
+        let m = faer::Mat::from_fn(8, 8, |i, k| match i {
+            0 => at([a, 0.0], rt, k),
+            1 => at([b, 0.0], rt, k),
+            2 => at([0.0, a], st, k),
+            3 => at([0.0, b], st, k),
+            4 => at([b, a], qt, k),
+            5 => at([a, b], qt, k),
+            6 => mean(rt, k),
+            _ => mean(st, k),
+        });
+        let inv = faer::linalg::solvers::DenseSolveCore::inverse(&m.full_piv_lu());
+        std::array::from_fn(|k| std::array::from_fn(|i| inv[(k, i)]))
+    });
+    let phi = basis(r, s);
+    std::array::from_fn(|c| {
+        std::array::from_fn(|i| (0..8).map(|k| phi[k][c] * inverse[k][i]).sum())
+    })
 }
 
 /// The plane-stress elasticity of the shell's layers and its transverse

@@ -22,22 +22,26 @@
 //! **Strains.** The covariant strains `e_ij = (g_i . U,j + g_j . U,i) / 2`
 //! on the base vectors `g_i = dX/di`; the transverse shear strains `e_rt`,
 //! `e_st` are not taken where they are evaluated but interpolated from
-//! their values at tying points, which removes shear locking
-//! (MITC4: `e_rt` from the edge midpoints `s = +-1`, `e_st` from `r = +-1`;
-//! MITC3+: a constant part from three points on the lines from the centroid
-//! to the corners and a linear part from three points next to the centroid,
-//! Lee, Lee and Bathe, 2014); S6 takes all its strains at the three
-//! interior points of its (reduced) rule; S8 ties all five components as
+//! their values at tying points, which removes shear locking (MITC4: `e_rt`
+//! from the edge midpoints `s = +-1`, `e_st` from `r = +-1`; MITC3+: a
+//! constant part from three points on the lines from the centroid to the
+//! corners and a linear part from three points next to the centroid, Lee,
+//! Lee and Bathe, 2014; S6: Nedelec's second-order space from the
+//! tangential strains at the two Gauss points of each edge and the
+//! element's mean strains, in the manner of MITC6) and S6 takes its
+//! membrane and bending strains at the three interior points of its
+//! (reduced) rule, against membrane locking; S8 ties all five components as
 //! MITC9 and corrects the membrane ones by their mean difference from the
 //! compatible ones, so that it passes the patch tests on distorted meshes
 //! (`membrane_correction` in `mitc.rs`). They are turned onto a local
 //! Cartesian frame (`e1` along `g_r`, `e3` normal to the surface) and meet
 //! a plane-stress material (`sigma_33 = 0`) with transverse shear stiffness
 //! `k G`, `k = 5/6`. Stiffness `K = int B^T D B dV`: 2 x 2 Gauss points in
-//! the plane (S4), six (S3), three (S6) or 3 x 3 (S8), two through the
-//! thickness (exact for a flat shell). S8's centre node and S3's bubble are
-//! condensed statically in the element: `K = K_bb - K_bc K_cc^-1 K_cb`,
-//! their mass and stresses through the same map `u_c = -K_cc^-1 K_cb u_b`.
+//! the plane (S4), six (S3), three (S6; six for its shear) or 3 x 3 (S8),
+//! two through the thickness (exact for a flat shell). S8's centre node and
+//! S3's bubble are condensed statically in the element: `K = K_bb - K_bc
+//! K_cc^-1 K_cb`, their mass and stresses through the same map `u_c =
+//! -K_cc^-1 K_cb u_b`.
 //!
 //! **Drilling.** The rotation about the normal has no stiffness in the
 //! continuum; a penalty `gamma (theta_n - w)^2 / 2` per area ties it to the
@@ -94,7 +98,8 @@ pub enum ShellKind {
     S3,
     /// 4-node quadrilateral, MITC4.
     S4,
-    /// 6-node triangle, quadratic, three-point integration.
+    /// 6-node triangle, quadratic (curved): its shear tied in Nedelec's
+    /// space, its membrane and bending strains at three points.
     S6,
     /// 8-node quadrilateral, quadratic (curved): MITC9 with its centre node
     /// condensed.

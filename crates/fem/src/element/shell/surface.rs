@@ -191,7 +191,8 @@ pub(super) fn stress_rule(kind: ShellKind) -> &'static [([f64; 2], f64)] {
     }
 }
 
-/// The in-plane rule of the mass and of the drilling penalty: exact for
+/// The in-plane rule of the mass, of the drilling penalty and of S6's
+/// tied shear: exact for
 /// products of two shape functions on an undistorted element (S4: 2 x 2,
 /// S6: 6 points; S3: 6 points, exact for the products of its corners'
 /// functions with each other and with its bubble, not for the bubble's
