@@ -27,9 +27,18 @@ const SIDE: f64 = 10.0;
 /// `edges` applied to the nodes on the edges.
 fn plate(kind: ShellKind, n: usize, thickness: f64, edges: Edges) -> Model {
     let h = SIDE / n as f64;
-    let grid = Grid::new(kind, [n, n], &nafems_steel(), thickness, |i, j| {
-        [h * i, h * j, 0.0]
-    });
+    plate_on(kind, n, thickness, edges, |i, j| [h * i, h * j, 0.0])
+}
+
+/// [`plate`] with its nodes at `position(i, j)` of their grid position.
+fn plate_on(
+    kind: ShellKind,
+    n: usize,
+    thickness: f64,
+    edges: Edges,
+    position: impl Fn(f64, f64) -> [f64; 3],
+) -> Model {
+    let grid = Grid::new(kind, [n, n], &nafems_steel(), thickness, position);
     let mut fixed = Vec::new();
     for (i, j, node) in grid.each() {
         fixed.extend(at(node, &[DofKind::Ux, DofKind::Uy, DofKind::Rz]));
@@ -181,6 +190,55 @@ fn cantilevered_thin_plate_matches_nafems_fv16() {
         // S4 0.81 %, S3 0.79 %, S6 0.98 %, S8 0.98 % from NAFEMS.
         assert!(errors[2] < 0.01, "{kind:?}: {errors:?}");
         assert_at_nafems_mesh(kind, errors[0], [0.07, 0.04, 0.01, 0.01]);
+    }
+}
+
+#[test]
+fn cantilevered_thin_plate_on_nafems_own_meshes_fv16() {
+    // NAFEMS' tests 1 and 2 of FV16: 4 x 4 eight-node elements, regular,
+    // and with the nine interior corner nodes moved (test 2; mid-side
+    // nodes at the middle of the straight edges). Measured: within 0.69 %
+    // on the regular mesh, 1.8 % (sixth mode; 0.98 % in the fifth, the
+    // others within 0.78 %) on the distorted one. OptiStruct's
+    // verification manual prints its eight-node elements 3 to 11 % below
+    // NAFEMS' values on both.
+    let nafems = [0.421, 1.029, 2.582, 3.306, 3.753, 6.555];
+    let moved = |i: usize, j: usize| -> Option<[f64; 2]> {
+        Some(match (i, j) {
+            (2, 2) => [4.0, 4.0],
+            (1, 1) => [2.25, 2.25],
+            (2, 1) => [4.75, 2.5],
+            (3, 1) => [7.25, 2.75],
+            (3, 2) => [7.5, 4.75],
+            (3, 3) => [7.75, 7.25],
+            (2, 3) => [5.25, 7.25],
+            (1, 3) => [2.25, 7.25],
+            (1, 2) => [2.5, 4.75],
+            _ => return None,
+        })
+    };
+    for distorted in [false, true] {
+        let corner = |i: usize, j: usize| match moved(i, j).filter(|_| distorted) {
+            Some(p) => p,
+            None => [2.5 * i as f64, 2.5 * j as f64],
+        };
+        // Corners where the grid position is whole, edge midpoints between.
+        let position = |x: f64, y: f64| {
+            let (a, b) = (
+                corner(x.floor() as usize, y.floor() as usize),
+                corner(x.ceil() as usize, y.ceil() as usize),
+            );
+            [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.0]
+        };
+        let model = plate_on(ShellKind::S8, 4, 0.05, Edges::ClampedAtXZero, position);
+        let name = if distorted { "distorted" } else { "regular" };
+        let error = worst(
+            &format!("S8 4x4 {name} FV16"),
+            &frequencies(&model, 6),
+            &nafems,
+        );
+        let bound = if distorted { 0.02 } else { 0.01 };
+        assert!(error < bound, "{name}: {error}");
     }
 }
 
