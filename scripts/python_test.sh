@@ -4,9 +4,13 @@
 # scripts/install_peers.sh puts Exudyn) the way a user installs it,
 # `pip install ./python`, and runs its pytest suite (python/tests, which
 # also runs python/examples) against the command line's binary.
-# The extension is built in the `dev` profile, as `cargo test` builds the
-# workspace, so that it reuses those compiled crates; a user's
-# `pip install ./python` builds it optimised (release).
+# The extension is built in the `dev` profile (a user's `pip install
+# ./python` builds it optimised, release); maturin builds it on its own, so
+# the workspace's crates compile once more for it.
+# The tests run the command line's binary FLEXBODY_BIN; unset, it is built
+# here (`cargo build --bin flexbody`). scripts/test.sh sets it to the binary
+# `cargo test` has just built for the integration tests, so that the suite
+# does not build the workspace's crates a second time.
 # Extra arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,8 +18,11 @@ cd "$(dirname "$0")/.."
 venv=target/python-venv
 [ -x "$venv/bin/python" ] || python3 -m venv --system-site-packages "$venv"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check pytest numpy scipy pandas
-cargo build --quiet --bin flexbody
+if [ -z "${FLEXBODY_BIN:-}" ]; then
+    cargo build --quiet --bin flexbody
+    FLEXBODY_BIN="$PWD/target/debug/flexbody"
+fi
 MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install --quiet \
     --disable-pip-version-check --root-user-action=ignore ./python
 cd python/tests
-FLEXBODY_BIN="$PWD/../../target/debug/flexbody" "../../$venv/bin/python" -m pytest -q -p no:cacheprovider "$@"
+FLEXBODY_BIN="$FLEXBODY_BIN" "../../$venv/bin/python" -m pytest -q -p no:cacheprovider "$@"

@@ -47,7 +47,8 @@ trap 'rm -f "$log"' EXIT
 start=$(date +%s)
 cargo test --workspace "$@" 2>&1 | tee "$log"
 status=${PIPESTATUS[0]}
-bash scripts/python_test.sh 2>&1 | tee -a "$log"
+# The binary cargo test built for the integration tests (tests/flexbody).
+FLEXBODY_BIN="$PWD/target/debug/flexbody" bash scripts/python_test.sh 2>&1 | tee -a "$log"
 python_status=${PIPESTATUS[0]}
 [ "$python_status" = 0 ] || status=${status/#0/1}
 echo
