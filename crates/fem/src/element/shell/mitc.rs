@@ -906,14 +906,32 @@ pub(super) fn unit(a: [f64; 3]) -> [f64; 3] {
     a.map(|v| v / l)
 }
 
-/// The mass matrix the points hold: `sum_g m_g U^T U + Theta^T J_g Theta`.
+/// The mass matrix the points hold: `sum_g m_g U^T U + Theta^T J_g Theta`
+/// (summed entry by entry on the upper triangle: the matrices are small).
 pub(super) fn mass_matrix(points: &[MassPoint], nd: usize) -> Mat<f64> {
-    let mut m = Mat::<f64>::zeros(nd, nd);
+    let mut upper = vec![0.0; nd * nd];
     for p in points {
-        let j = Mat::from_fn(3, 3, |r, c| p.inertia[r][c]);
-        m += p.mass * p.translation.transpose() * &p.translation;
-        m += p.rotation.transpose() * &j * &p.rotation;
+        let (u, theta) = (&p.translation, &p.rotation);
+        // J Theta, 3 x nd.
+        let j_theta: Vec<[f64; 3]> = (0..nd)
+            .map(|c| std::array::from_fn(|r| (0..3).map(|k| p.inertia[r][k] * theta[(k, c)]).sum()))
+            .collect();
+        for i in 0..nd {
+            let (ui, ti) = (
+                [u[(0, i)], u[(1, i)], u[(2, i)]],
+                [theta[(0, i)], theta[(1, i)], theta[(2, i)]],
+            );
+            if ui.iter().chain(&ti).all(|v| *v == 0.0) {
+                continue;
+            }
+            for j in i..nd {
+                let mut v = 0.0;
+                for k in 0..3 {
+                    v += p.mass * ui[k] * u[(k, j)] + ti[k] * j_theta[j][k];
+                }
+                upper[i * nd + j] += v;
+            }
+        }
     }
-    flexbody_linalg::sparse::symmetrize(&mut m);
-    m
+    symmetric(nd, &upper)
 }

@@ -377,11 +377,17 @@ impl Shell {
             return Ok((full, None));
         }
         let directions = geometry.internal_directions();
-        let e = faer::Mat::from_fn(full.nrows(), nb + directions.len(), |r, c| match (r, c) {
-            (r, c) if r < nb || c < nb => (r == c) as u8 as f64,
-            (r, c) => directions[c - nb][r - nb],
+        let (ni, m) = (full.nrows() - nb, directions.len());
+        let e = faer::Mat::from_fn(ni, m, |r, c| directions[c][r]);
+        // [K_bb, K_bi E; E^T K_ib, E^T K_ii E].
+        let k_bi_e = full.as_ref().submatrix(0, nb, nb, ni) * &e;
+        let k_ee = e.transpose() * (full.as_ref().submatrix(nb, nb, ni, ni) * &e);
+        let reduced = faer::Mat::from_fn(nb + m, nb + m, |r, c| match (r < nb, c < nb) {
+            (true, true) => full[(r, c)],
+            (true, false) => k_bi_e[(r, c - nb)],
+            (false, true) => k_bi_e[(c, r - nb)],
+            (false, false) => k_ee[(r - nb, c - nb)],
         });
-        let reduced = e.transpose() * &full * &e;
         let (k, x) = condense(&reduced, nb).ok_or_else(|| {
             let what = match self.kind {
                 ShellKind::S3 => "its rotation bubble",
@@ -389,14 +395,15 @@ impl Shell {
             };
             self.invalid(format!("{what} has a singular stiffness"))
         })?;
-        let t = faer::Mat::from_fn(reduced.nrows(), nb, |r, c| {
+        let ex = &e * &x;
+        let t = faer::Mat::from_fn(nb + ni, nb, |r, c| {
             if r < nb {
                 (r == c) as u8 as f64
             } else {
-                x[(r - nb, c)]
+                ex[(r - nb, c)]
             }
         });
-        Ok((k, Some(&e * t)))
+        Ok((k, Some(t)))
     }
 
     /// S8's and S3's map `T` from the element's DOFs to the interpolation
@@ -410,7 +417,8 @@ impl Shell {
     }
 
     /// The mass slices ([`Geometry::mass_points`]) moving with the
-    /// element's DOFs (through `condensation`, S8's `T`).
+    /// element's DOFs (through `condensation`, S8's and S3's `T = [I;
+    /// T_i]`: `U T = U_b + U_i T_i`).
     fn mass_points(
         &self,
         geometry: &Geometry,
@@ -418,9 +426,15 @@ impl Shell {
     ) -> Vec<super::MassPoint> {
         let mut points = geometry.mass_points(self.material.density);
         if let Some(t) = condensation {
+            let (nb, n) = (t.ncols(), t.nrows());
+            let map = |u: &faer::Mat<f64>| {
+                faer::Mat::from_fn(3, nb, |r, c| {
+                    u[(r, c)] + (nb..n).map(|k| u[(r, k)] * t[(k, c)]).sum::<f64>()
+                })
+            };
             for p in &mut points {
-                p.translation = &p.translation * t;
-                p.rotation = &p.rotation * t;
+                p.translation = map(&p.translation);
+                p.rotation = map(&p.rotation);
             }
         }
         points
